@@ -1,0 +1,15 @@
+# Run by vts_embed_shaders in script mode: INPUTS, OUT_CPP, OUT_H.
+set(decls "")
+set(defs "")
+foreach(f ${INPUTS})
+  get_filename_component(name ${f} NAME)
+  string(REGEX REPLACE "[^A-Za-z0-9]" "_" ident ${name})
+  file(READ ${f} text)
+  string(APPEND decls "extern const char* const ${ident};\n")
+  # Raw string literal; the delimiter cannot occur in GLSL.
+  string(APPEND defs "const char* const ${ident} = R\"vts_glsl(${text})vts_glsl\";\n")
+endforeach()
+file(WRITE ${OUT_H}.tmp "#pragma once\n// Generated from shaders/*.glsl at build time.\nnamespace vts::shaders {\n${decls}}\n")
+file(WRITE ${OUT_CPP}.tmp "#include \"shaders/embedded.h\"\nnamespace vts::shaders {\n${defs}}\n")
+file(RENAME ${OUT_H}.tmp ${OUT_H})
+file(RENAME ${OUT_CPP}.tmp ${OUT_CPP})

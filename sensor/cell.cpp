@@ -1,0 +1,107 @@
+#include "sensor/cell.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace vts {
+namespace {
+
+struct Builtin {
+  std::string_view name;
+  std::string_view description;
+};
+constexpr Builtin kBuiltins[] = {
+    {"fillet", "90-degree T fillet, sensor on the bisector at 100 mm"},
+    {"corner", "90-degree outside corner, sensor straight above the edge at 100 mm"},
+    {"lap", "lap joint, 4 mm upper plate, sensor straight above the edge at 100 mm"},
+    {"butt", "square butt, 6 mm plates, 1 mm gap, sensor straight above at 100 mm"},
+    {"vgroove", "60-degree v-groove, 12 mm plates, 1 mm gap, 1.5 mm root face, at 100 mm"},
+    {"plate", "flat plate square to the optical axis at 100 mm (for measuring the sensor)"},
+    {"static-A", "paper Table 2 A: 90-degree fillet, sensor at 45 degrees, 63 mm, gap 0"},
+    {"static-B", "paper Table 2 B: 90-degree fillet, sensor at 45 degrees, 103 mm, gap 0"},
+    {"static-C", "paper Table 2 C: 90-degree fillet, sensor at 45 degrees, 156 mm, gap 0"},
+    {"static-D", "paper Table 2 D: 90-degree fillet, sensor at 45 degrees, 55 mm, gap 2 mm"},
+    {"static-E", "paper Table 2 E: 90-degree fillet, sensor at 45 degrees, 98 mm, gap 2 mm"},
+    {"static-F", "paper Table 2 F: 90-degree fillet, sensor at 45 degrees, 143 mm, gap 2 mm"},
+};
+
+constexpr double kDefaultStandoffMm = 100.0;
+
+Cell single_workpiece_cell(std::string_view name, JointType type, const JointParams& params,
+                           double standoff_mm) {
+  Cell cell;
+  cell.name = std::string(name);
+  cell.workpieces.push_back(build_workpiece(type, params));
+  cell.path = default_path(cell.workpieces.front(), standoff_mm);
+  return cell;
+}
+
+}  // namespace
+
+Pose ScanPath::pose_at(std::int64_t i) const {
+  Pose p = start;
+  p.translation() += static_cast<double>(i) * step_mm * direction;
+  return p;
+}
+
+Mesh Cell::mesh() const {
+  Mesh m;
+  for (const auto& w : workpieces) m.append(w.mesh());
+  return m;
+}
+
+Pose sensor_pose_looking_at(const Vec3& target_world, const Vec3& from_dir, double standoff_mm,
+                            const Vec3& travel_world) {
+  Pose pose = Pose::Identity();
+  const Vec3 eye = target_world + standoff_mm * from_dir.normalized();
+  pose_look_at(eye, target_world, travel_world, pose);
+  return pose;
+}
+
+Vec3 default_view_direction(const Workpiece& w) {
+  if (w.type == JointType::Fillet) {
+    const double half = 0.5 * w.params.angle_deg * std::numbers::pi / 180.0;
+    return Vec3(0.0, std::cos(half), std::sin(half));
+  }
+  return Vec3::UnitZ();
+}
+
+ScanPath default_path(const Workpiece& w, double standoff_mm, double start_mm) {
+  ScanPath path;
+  const Vec3 dir = w.seam_direction();
+  const Vec3 target = w.world_from_joint * Vec3(start_mm, w.truth.root_yz.x(), w.truth.root_yz.y());
+  path.start = sensor_pose_looking_at(target, w.world_from_joint.linear() * default_view_direction(w),
+                                      standoff_mm, dir);
+  path.direction = dir;
+  return path;
+}
+
+std::vector<std::string> builtin_cell_names() {
+  std::vector<std::string> names;
+  for (const auto& b : kBuiltins) names.emplace_back(b.name);
+  return names;
+}
+
+std::string builtin_cell_description(std::string_view name) {
+  for (const auto& b : kBuiltins)
+    if (b.name == name) return std::string(b.description);
+  return {};
+}
+
+std::optional<Cell> builtin_cell(std::string_view name) {
+  for (const auto& s : kStaticSetups) {
+    if (name == std::string("static-") + s.label) {
+      JointParams p = default_params(JointType::Fillet);
+      p.gap_mm = s.gap_mm;
+      return single_workpiece_cell(name, JointType::Fillet, p, s.distance_mm);
+    }
+  }
+  if (name == "plate" || name == "fillet" || name == "corner" || name == "lap" || name == "butt" ||
+      name == "vgroove") {
+    const JointType type = *joint_type_from_string(name);
+    return single_workpiece_cell(name, type, default_params(type), kDefaultStandoffMm);
+  }
+  return std::nullopt;
+}
+
+}  // namespace vts

@@ -1,0 +1,64 @@
+#pragma once
+// vts profile EXR files: one row per profile, one column per point.
+// Layout and attributes are documented in docs/EXR_FORMAT.md.
+//
+// Channels (FLOAT, full resolution): range, y, z, valid; with a reference
+// source also ref.range, ref.y, ref.z, ref.valid. Per-row channels (FLOAT,
+// x-subsampled: one sample per row): pose.tx, pose.ty, pose.tz (mm, world),
+// pose.qw, pose.qx, pose.qy, pose.qz (world_from_sensor rotation), time (s).
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sensor/profile.h"
+#include "sensor/scanner.h"
+
+namespace vts {
+
+struct ExrError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct ProfileFileInfo {
+  ScannerDesc scanner;
+  std::string scene_name;  // cell name or scene file path
+  std::string scene_text;  // the scene as YAML (docs/SCENE_FORMAT.md)
+  int profiles = 0;        // rows
+  bool has_reference = false;
+};
+
+// Streams rows to `path + ".tmp-<pid>"` and renames onto `path` in finish().
+// Destroying an unfinished writer removes the temporary file, so `path` never
+// holds a half-written file. Memory stays constant in the number of rows.
+class ProfileExrWriter {
+ public:
+  // info.profiles rows will be written; info.scanner.points columns.
+  ProfileExrWriter(const std::filesystem::path& path, const ProfileFileInfo& info);
+  ~ProfileExrWriter();
+  ProfileExrWriter(const ProfileExrWriter&) = delete;
+  ProfileExrWriter& operator=(const ProfileExrWriter&) = delete;
+
+  // Row `profile.index` is written; rows must come in order 0, 1, 2, ...
+  // `reference` is required iff info.has_reference.
+  void write(const Profile& profile, const Profile* reference = nullptr);
+  void finish();  // throws ExrError if fewer rows than announced were written
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct ProfileRecording {
+  ProfileFileInfo info;
+  std::vector<Profile> profiles;
+  std::vector<Profile> reference;  // empty unless info.has_reference
+};
+
+// Throws ExrError with a message naming the file and what is wrong with it
+// (missing file, not an EXR, missing channel, bad attribute value).
+ProfileRecording read_profile_exr(const std::filesystem::path& path);
+
+}  // namespace vts

@@ -1,0 +1,93 @@
+#pragma once
+// Workpieces for the five standard joints, built from plates, with their
+// analytic ground truth.
+//
+// Joint frame: x along the seam (the seam runs from x = 0 to x = length_mm),
+// y across the seam, z out of the work towards the side the sensor looks from.
+// The joint's root (the track reference, see JointTruth::root_yz) is at the
+// origin. A workpiece's pose maps the joint frame into the world.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "sensor/mesh.h"
+#include "sensor/pose.h"
+
+namespace vts {
+
+enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Plate };
+
+std::string_view to_string(JointType type);
+std::optional<JointType> joint_type_from_string(std::string_view name);
+
+// Every joint reads the fields that apply to it (see docs/SCENE_FORMAT.md);
+// default_params() gives each joint's defaults.
+struct JointParams {
+  double length_mm = 200.0;     // plates' extent along the seam (x)
+  double width_mm = 80.0;       // each plate's extent across the seam
+  double thickness_mm = 6.0;    // plate thickness
+  double height_mm = 80.0;      // fillet: web height above the flange
+  double gap_mm = 0.0;          // fillet: web lifted off the flange; corner, butt,
+                                // v-groove: opening between the plates; lap: upper
+                                // plate lifted off the lower one
+  double angle_deg = 90.0;      // fillet: angle between the plates on the open side;
+                                // corner: inside angle between the plates (90..179);
+                                // v-groove: included groove angle
+  double mismatch_mm = 0.0;     // butt, v-groove: right plate raised by this much
+  double root_face_mm = 1.0;    // v-groove: height of the unbevelled land
+  double segment_mm = 10.0;     // mesh: plates are cut every segment_mm along x
+};
+
+JointParams default_params(JointType type);
+
+// Empty when the parameters are usable for the joint, else a message naming
+// the field and value, e.g. "gap_mm = -1: must be >= 0".
+std::string validate(JointType type, const JointParams& params);
+
+// A plate: a convex cross-section polygon in the joint's y-z plane (mm,
+// counter-clockwise), extruded along x from x0_mm to x1_mm.
+struct Plate {
+  std::vector<Vec2> section_yz;
+  double x0_mm = 0.0;
+  double x1_mm = 0.0;
+};
+
+// The joint's true cross-section features, in the joint frame's y-z plane (mm).
+struct JointTruth {
+  Vec2 root_yz = Vec2::Zero();  // track reference point (always the origin)
+  double gap_mm = 0.0;
+  double angle_deg = 0.0;       // angle between the two joined surfaces
+  double mismatch_mm = 0.0;
+  double step_mm = 0.0;         // lap: height of the upper plate's edge above the lower plate
+  double depth_mm = 0.0;        // v-groove: depth from plate top to root
+  double area_mm2 = 0.0;        // v-groove: open cross-section area of the groove
+  // Named feature points, e.g. {"web_edge", (0, gap)}; see docs/SCENE_FORMAT.md.
+  std::vector<std::pair<std::string, Vec2>> features;
+};
+
+struct Workpiece {
+  JointType type = JointType::Fillet;
+  JointParams params;
+  Pose world_from_joint = Pose::Identity();
+  std::vector<Plate> plates;  // joint frame
+  JointTruth truth;
+
+  Mesh mesh() const;  // world frame
+  // Seam line in world: origin + s * direction, s in [0, length_mm].
+  Vec3 seam_origin() const;
+  Vec3 seam_direction() const;
+  // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
+  // every plate, world frame; from the section polygons, not the mesh.
+  std::vector<std::pair<Vec3, double>> face_planes() const;
+};
+
+// Builds the plates and truth. Precondition: validate(type, params) is empty.
+Workpiece build_workpiece(JointType type, const JointParams& params,
+                          const Pose& world_from_joint = Pose::Identity());
+
+// Plate extruded along x, triangulated with a cut every segment_mm.
+Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint);
+
+}  // namespace vts

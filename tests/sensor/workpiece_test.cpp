@@ -1,0 +1,141 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "sensor/cell.h"
+#include "sensor/workpiece.h"
+
+using namespace vts;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// True if the triangle lies in one of the planes and its winding gives that plane's outward normal.
+bool on_outward_face(const Mesh& m, const std::array<std::uint32_t, 3>& t,
+                     const std::vector<std::pair<Vec3, double>>& planes) {
+  const Vec3 a = m.vertices[t[0]].cast<double>(), b = m.vertices[t[1]].cast<double>(),
+             c = m.vertices[t[2]].cast<double>();
+  const Vec3 n = (b - a).cross(c - a).normalized();
+  for (const auto& [pn, d] : planes)
+    if (pn.dot(n) > 1.0 - 1e-5 && std::abs(pn.dot(a) - d) < 1e-3 && std::abs(pn.dot(b) - d) < 1e-3 &&
+        std::abs(pn.dot(c) - d) < 1e-3)
+      return true;
+  return false;
+}
+}  // namespace
+
+TEST_CASE("every joint's mesh triangles lie on the plates' analytic faces, wound outward", "[geometry]") {
+  for (JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt,
+                         JointType::VGroove, JointType::Plate}) {
+    const Pose pose = pose_from_xyz_rpy({10, -20, 5}, {3, -7, 25});
+    const Workpiece w = build_workpiece(type, default_params(type), pose);
+    const Mesh m = w.mesh();
+    const auto planes = w.face_planes();
+    INFO(to_string(type));
+    REQUIRE(m.triangle_count() > 0);
+    for (const auto& t : m.triangles) REQUIRE(on_outward_face(m, t, planes));
+  }
+}
+
+TEST_CASE("fillet: web toe sits gap above the flange on the line through the root", "[geometry]") {
+  JointParams p = default_params(JointType::Fillet);
+  p.gap_mm = 2.0;
+  p.angle_deg = 75.0;
+  const Workpiece w = build_workpiece(JointType::Fillet, p);
+  Vec2 toe = Vec2::Zero();
+  for (const auto& [name, pt] : w.truth.features)
+    if (name == "web_toe") toe = pt;
+  CHECK(toe.y() == Approx(2.0));
+  // The toe lies on the ray from the root at 75 degrees: y = z / tan(75 deg).
+  CHECK(toe.x() == Approx(2.0 / std::tan(75.0 * kDeg)));
+  CHECK(w.truth.angle_deg == 75.0);
+  CHECK(w.truth.gap_mm == 2.0);
+  // The web's bottom face is horizontal at z = gap.
+  int at_gap = 0;
+  for (const auto& v : w.plates[1].section_yz) at_gap += std::abs(v.y() - 2.0) < 1e-12;
+  CHECK(at_gap == 2);
+}
+
+TEST_CASE("v-groove truth: depth and open area by hand", "[geometry]") {
+  const JointParams p = default_params(JointType::VGroove);  // t 12, rf 1.5, 60 deg, gap 1
+  const Workpiece w = build_workpiece(JointType::VGroove, p);
+  const double d = 12.0 - 1.5;
+  CHECK(w.truth.depth_mm == Approx(d));
+  // Trapezoid: bottom 1 mm, top 1 + 2 d tan 30, height d.
+  CHECK(w.truth.area_mm2 == Approx(d * (1.0 + d * std::tan(30.0 * kDeg))));
+  CHECK(w.truth.area_mm2 == Approx(74.1532).epsilon(1e-5));
+}
+
+TEST_CASE("seam line follows the workpiece pose", "[geometry]") {
+  const Pose pose = pose_from_xyz_rpy({100, 50, 0}, {0, 0, 90});
+  const Workpiece w = build_workpiece(JointType::Butt, default_params(JointType::Butt), pose);
+  CHECK((w.seam_origin() - Vec3(100, 50, 0)).norm() < 1e-12);
+  CHECK((w.seam_direction() - Vec3(0, 1, 0)).norm() < 1e-12);
+}
+
+TEST_CASE("invalid joint parameters are named with their value", "[geometry]") {
+  JointParams p = default_params(JointType::VGroove);
+  p.gap_mm = -1.0;
+  CHECK(validate(JointType::VGroove, p) == "gap_mm = -1: must be >= 0");
+  p = default_params(JointType::VGroove);
+  p.root_face_mm = 20.0;
+  CHECK(validate(JointType::VGroove, p).rfind("root_face_mm = 20", 0) == 0);
+  p = default_params(JointType::Fillet);
+  p.thickness_mm = std::nan("");
+  CHECK(validate(JointType::Fillet, p).rfind("thickness_mm = nan", 0) == 0);
+  p = default_params(JointType::Corner);
+  p.angle_deg = 60.0;
+  CHECK(validate(JointType::Corner, p).rfind("angle_deg = 60", 0) == 0);
+  for (JointType t : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt,
+                      JointType::VGroove, JointType::Plate})
+    CHECK(validate(t, default_params(t)).empty());
+}
+
+TEST_CASE("static setups: sensor at the Table 2 distance, optical axis at 45 degrees to both plates",
+          "[geometry][cells]") {
+  for (const auto& s : kStaticSetups) {
+    const auto cell = builtin_cell(std::string("static-") + s.label);
+    REQUIRE(cell);
+    const Workpiece& w = cell->workpieces.at(0);
+    CHECK(w.truth.gap_mm == s.gap_mm);
+    const Pose p = cell->path.start;
+    const Vec3 root(20.0, 0.0, 0.0);  // default path starts 20 mm along the seam
+    CHECK((p.translation() - root).norm() == Approx(s.distance_mm));
+    const Vec3 axis = p.linear().col(2);
+    // Looking at the root: the axis points from the laser to the root.
+    CHECK((root - p.translation()).normalized().dot(axis) == Approx(1.0));
+    // 45 degrees to the flange (z = 0) and to the web (y = 0).
+    CHECK(std::acos(std::abs(axis.dot(Vec3::UnitZ()))) / kDeg == Approx(45.0));
+    CHECK(std::acos(std::abs(axis.dot(Vec3::UnitY()))) / kDeg == Approx(45.0));
+    // Travel along the seam; the laser line lies in the cross-section.
+    CHECK(p.linear().col(0).dot(Vec3::UnitX()) == Approx(1.0));
+  }
+}
+
+TEST_CASE("built-in cells all exist and the path steps along the seam", "[cells]") {
+  for (const auto& name : builtin_cell_names()) {
+    INFO(name);
+    const auto cell = builtin_cell(name);
+    REQUIRE(cell);
+    CHECK_FALSE(builtin_cell_description(name).empty());
+    CHECK(cell->mesh().triangle_count() > 0);
+    const Pose p10 = cell->path.pose_at(10);
+    CHECK((p10.translation() - cell->path.start.translation() - 10 * cell->path.step_mm * Vec3::UnitX())
+              .norm() < 1e-12);
+  }
+  CHECK_FALSE(builtin_cell("nope"));
+}
+
+TEST_CASE("pose helpers: rpy round trip, look-at frame", "[pose]") {
+  const Pose p = pose_from_xyz_rpy({1, 2, 3}, {10, -20, 30});
+  CHECK((rpy_deg_of(p) - Vec3(10, -20, 30)).norm() < 1e-9);
+  const Pose q = pose_from_quat(p.translation(), rotation_quat(p));
+  CHECK((q.matrix() - p.matrix()).norm() < 1e-12);
+  Pose look;
+  REQUIRE(pose_look_at({0, 0, 100}, {0, 0, 0}, {1, 0, 0}, look));
+  CHECK((look.linear().col(2) - Vec3(0, 0, -1)).norm() < 1e-12);
+  CHECK((look.linear().col(0) - Vec3(1, 0, 0)).norm() < 1e-12);
+  CHECK((look.linear().col(0) - look.linear().col(1).cross(look.linear().col(2))).norm() < 1e-12);
+  CHECK_FALSE(pose_look_at({0, 0, 100}, {0, 0, 0}, {0, 0, 1}, look));
+}
