@@ -5,7 +5,11 @@
 // Channels (FLOAT, full resolution): range, y, z, valid; with a reference
 // source also ref.range, ref.y, ref.z, ref.valid. Per-row channels (FLOAT,
 // x-subsampled: one sample per row): pose.tx, pose.ty, pose.tz (mm, world),
-// pose.qw, pose.qx, pose.qy, pose.qz (world_from_sensor rotation), time (s).
+// pose.qw, pose.qx, pose.qy, pose.qz (world_from_sensor rotation, w >= 0),
+// time (s). These per-row values are doubles in Profile; the FLOAT channels
+// hold them rounded to float, and UINT per-row channels f64hi.<name> and
+// f64lo.<name> hold the high and low 32 bits of the IEEE binary64 value, so
+// poses and times round-trip exactly.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -33,18 +37,26 @@ struct ProfileFileInfo {
 // Streams rows to `path + ".tmp-<pid>"` and renames onto `path` in finish().
 // Destroying an unfinished writer removes the temporary file, so `path` never
 // holds a half-written file. Memory stays constant in the number of rows.
+// Every failure throws ExrError naming `path`.
 class ProfileExrWriter {
  public:
-  // info.profiles rows will be written; info.scanner.points columns.
+  // info.profiles (>= 1) rows will be written; info.scanner.points columns.
+  // Creates the parent directory if needed; throws if info.scanner is not
+  // valid (vts::validate) or the file cannot be created.
   ProfileExrWriter(const std::filesystem::path& path, const ProfileFileInfo& info);
   ~ProfileExrWriter();
   ProfileExrWriter(const ProfileExrWriter&) = delete;
   ProfileExrWriter& operator=(const ProfileExrWriter&) = delete;
 
   // Row `profile.index` is written; rows must come in order 0, 1, 2, ...
-  // `reference` is required iff info.has_reference.
+  // `reference` is required iff info.has_reference; only its samples are
+  // stored (it shares the row's pose and time). Throws, writing nothing, on a
+  // row out of order, a row beyond info.profiles or a profile whose size is
+  // not info.scanner.points.
   void write(const Profile& profile, const Profile* reference = nullptr);
-  void finish();  // throws ExrError if fewer rows than announced were written
+  // Throws ExrError if fewer rows than announced were written, and then
+  // removes the temporary file at once. A second call does nothing.
+  void finish();
 
  private:
   struct Impl;
@@ -53,12 +65,14 @@ class ProfileExrWriter {
 
 struct ProfileRecording {
   ProfileFileInfo info;
-  std::vector<Profile> profiles;
-  std::vector<Profile> reference;  // empty unless info.has_reference
+  std::vector<Profile> profiles;   // index = row
+  std::vector<Profile> reference;  // empty unless info.has_reference; pose,
+                                   // time and index copied from `profiles`
 };
 
-// Throws ExrError with a message naming the file and what is wrong with it
-// (missing file, not an EXR, missing channel, bad attribute value).
+// Reads the whole file. Throws ExrError with a message naming the file and
+// what is wrong with it (missing file, not an EXR, truncated, missing channel,
+// wrong width, bad attribute value).
 ProfileRecording read_profile_exr(const std::filesystem::path& path);
 
 }  // namespace vts

@@ -1,0 +1,556 @@
+#include "sensor/profile_exr.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+#include <ImfStringAttribute.h>
+#include <unistd.h>
+
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include "sensor/pose.h"
+
+namespace vts {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kFormat = "vts-profiles 1";
+constexpr const char* kUnits = "mm (y, z, range, pose.t*), s (time)";
+constexpr const char* kFrame =
+    "Sensor frame: origin at the laser, z along the optical axis (range), y along the laser "
+    "line, x = y cross z (the travel direction). Row pose (pose.t*, pose.q*) is "
+    "world_from_sensor: p_world = R(q) * p_sensor + t.";
+constexpr const char* kColumns =
+    "Row r is profile r in scan order. Column i of N = vts.scanner.points samples the "
+    "sensor-frame ray (0, t_i, 1) with t_i = tan(fan_deg / 2) * (2 * (i + 0.5) / N - 1). "
+    "Invalid points have range = y = z = 0 and valid = 0.";
+constexpr const char* kReferenceKind = "embree3-robust";
+constexpr const char* kNoReference = "none";
+
+// Rows moved per OpenEXR call; memory is this many rows whatever the file size.
+constexpr int kChunkRows = 64;
+
+// Per-point channels: full resolution, FLOAT. Order matches Impl buffers.
+constexpr std::array<const char*, 4> kPointNames = {"range", "y", "z", "valid"};
+constexpr std::array<const char*, 4> kRefPointNames = {"ref.range", "ref.y", "ref.z", "ref.valid"};
+// Per-row channels: one sample per row (xSampling = width).
+constexpr std::array<const char*, 8> kRowNames = {"pose.tx", "pose.ty", "pose.tz", "pose.qw",
+                                                  "pose.qx", "pose.qy", "pose.qz", "time"};
+// The per-row values are doubles; FLOAT channels hold them rounded, UINT
+// channels f64hi.<name> / f64lo.<name> hold the binary64 bits for an exact
+// round trip.
+constexpr const char* kHiPrefix = "f64hi.";
+constexpr const char* kLoPrefix = "f64lo.";
+
+std::string where(const fs::path& path) { return "profile EXR '" + path.string() + "'"; }
+
+std::string format_double(double v) {
+  char buf[64];
+  // Shortest representation that reads back to the same double.
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+std::array<double, 8> row_values(const Profile& p) {
+  const Eigen::Quaterniond q = rotation_quat(p.world_from_sensor);
+  const Vec3 t = p.world_from_sensor.translation();
+  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), p.time_s};
+}
+
+std::string matrix_text(const Pose& pose) {
+  std::string s;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      if (!s.empty()) s += ' ';
+      s += format_double(pose.matrix()(r, c));
+    }
+  return s;
+}
+
+}  // namespace
+
+struct ProfileExrWriter::Impl {
+  fs::path path;
+  fs::path tmp;
+  ProfileFileInfo info;
+  int width = 0;
+  int rows_written = 0;  // rows handed to write()
+  int chunk_first = 0;   // row of chunk slot 0
+  int chunk_rows = 0;    // rows buffered, not yet given to OpenEXR
+  bool finished = false;
+  bool failed = false;
+
+  std::ofstream ofs;
+  std::unique_ptr<Imf::StdOFStream> stream;
+  std::unique_ptr<Imf::OutputFile> file;
+
+  std::array<std::vector<float>, 8> points;  // range y z valid, then ref.*
+  std::array<std::vector<float>, 8> row_f;
+  std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
+
+  std::string err(const std::string& what) const { return where(path) + ": " + what; }
+
+  void open();
+  void flush();
+  // Closes and deletes the temporary file; never throws.
+  void discard() noexcept;
+};
+
+void ProfileExrWriter::Impl::open() {
+  if (const std::string why = validate(info.scanner); !why.empty())
+    throw ExrError(err("scanner " + why));
+  if (info.profiles < 1)
+    throw ExrError(err("profiles = " + std::to_string(info.profiles) +
+                       ": a file needs at least one row"));
+  width = info.scanner.points;
+
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw ExrError(err("is a directory"));
+  const fs::path dir = path.parent_path();
+  if (!dir.empty()) {
+    fs::create_directories(dir, ec);
+    if (ec) throw ExrError(err("cannot create directory '" + dir.string() + "': " + ec.message()));
+  }
+  tmp = path;
+  tmp += ".tmp-" + std::to_string(::getpid());
+
+  Imf::Header h(width, info.profiles);
+  h.compression() = Imf::ZIP_COMPRESSION;
+  h.lineOrder() = Imf::INCREASING_Y;
+  const int np = info.has_reference ? 8 : 4;
+  for (int c = 0; c < np; ++c)
+    h.channels().insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4], Imf::Channel(Imf::FLOAT));
+  for (const char* name : kRowNames) {
+    h.channels().insert(name, Imf::Channel(Imf::FLOAT, width, 1));
+    h.channels().insert(std::string(kHiPrefix) + name, Imf::Channel(Imf::UINT, width, 1));
+    h.channels().insert(std::string(kLoPrefix) + name, Imf::Channel(Imf::UINT, width, 1));
+  }
+
+  auto put = [&](const char* name, const std::string& value) {
+    h.insert(name, Imf::StringAttribute(value));
+  };
+  const ScannerDesc& s = info.scanner;
+  put("comments", "vts laser profiles: one row per profile, one column per point (docs/EXR_FORMAT.md)");
+  put("vts.format", kFormat);
+  put("vts.units", kUnits);
+  put("vts.frame", kFrame);
+  put("vts.columns", kColumns);
+  put("vts.scanner.name", s.name);
+  put("vts.scanner.fan_deg", format_double(s.fan_deg));
+  put("vts.scanner.points", std::to_string(s.points));
+  put("vts.scanner.min_range_mm", format_double(s.min_range_mm));
+  put("vts.scanner.max_range_mm", format_double(s.max_range_mm));
+  put("vts.scanner.max_hit_mm", format_double(s.max_hit_mm));
+  put("vts.scanner.rate_hz", format_double(s.rate_hz));
+  put("vts.scanner.tool_from_laser", matrix_text(s.tool_from_laser));
+  put("vts.scene.name", info.scene_name);
+  put("vts.scene.yaml", info.scene_text);
+  put("vts.reference", info.has_reference ? kReferenceKind : kNoReference);
+
+  for (int c = 0; c < np; ++c) points[c].assign(std::size_t(kChunkRows) * width, 0.0f);
+  for (int c = 0; c < 8; ++c) {
+    row_f[c].assign(kChunkRows, 0.0f);
+    row_hi[c].assign(kChunkRows, 0u);
+    row_lo[c].assign(kChunkRows, 0u);
+  }
+
+  ofs.open(tmp, std::ios::binary | std::ios::trunc);
+  if (!ofs)
+    throw ExrError(err("cannot create '" + tmp.string() + "': " + std::strerror(errno)));
+  try {
+    stream = std::make_unique<Imf::StdOFStream>(ofs, tmp.c_str());
+    file = std::make_unique<Imf::OutputFile>(*stream, h);
+  } catch (const std::exception& e) {
+    discard();
+    throw ExrError(err(e.what()));
+  }
+}
+
+void ProfileExrWriter::Impl::flush() {
+  if (chunk_rows == 0) return;
+  const Imath::V2i origin(0, chunk_first);
+  const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
+  Imf::FrameBuffer fb;
+  const int np = info.has_reference ? 8 : 4;
+  for (int c = 0; c < np; ++c)
+    fb.insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4],
+              Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows, fstride,
+                               fstride * width));
+  for (int c = 0; c < 8; ++c) {
+    const std::string name = kRowNames[c];
+    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, width, kChunkRows,
+                                     fstride, fstride, width, 1));
+    fb.insert(kHiPrefix + name, Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, width,
+                                                 kChunkRows, ustride, ustride, width, 1));
+    fb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, width,
+                                                 kChunkRows, ustride, ustride, width, 1));
+  }
+  try {
+    file->setFrameBuffer(fb);
+    file->writePixels(chunk_rows);
+  } catch (const std::exception& e) {
+    failed = true;
+    throw ExrError(err(std::string("writing rows ") + std::to_string(chunk_first) + ".." +
+                       std::to_string(chunk_first + chunk_rows - 1) + ": " + e.what()));
+  }
+  if (!ofs) {
+    failed = true;
+    throw ExrError(err("write to '" + tmp.string() + "' failed"));
+  }
+  chunk_first += chunk_rows;
+  chunk_rows = 0;
+}
+
+void ProfileExrWriter::Impl::discard() noexcept {
+  try {
+    file.reset();  // OpenEXR writes its offset table here; it swallows errors
+  } catch (...) {
+  }
+  stream.reset();
+  if (ofs.is_open()) ofs.close();
+  if (!tmp.empty()) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+  }
+}
+
+ProfileExrWriter::ProfileExrWriter(const fs::path& path, const ProfileFileInfo& info)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->info = info;
+  impl_->open();
+}
+
+ProfileExrWriter::~ProfileExrWriter() {
+  if (!impl_->finished) impl_->discard();
+}
+
+void ProfileExrWriter::write(const Profile& profile, const Profile* reference) {
+  Impl& m = *impl_;
+  if (m.finished) throw ExrError(m.err("write() after finish()"));
+  if (m.failed) throw ExrError(m.err("write() after an earlier write failed"));
+  const std::string row = "row " + std::to_string(m.rows_written) + ": ";
+  if (m.rows_written >= m.info.profiles)
+    throw ExrError(m.err(row + "more rows than the " + std::to_string(m.info.profiles) +
+                         " announced"));
+  if (profile.index != m.rows_written)
+    throw ExrError(m.err(row + "profile.index = " + std::to_string(profile.index) +
+                         ", expected " + std::to_string(m.rows_written) +
+                         " (rows must come in order)"));
+  auto check_size = [&](const Profile& p, const char* what) {
+    const std::size_t n = m.width;
+    if (p.range_mm.size() != n || p.y_mm.size() != n || p.z_mm.size() != n || p.valid.size() != n)
+      throw ExrError(m.err(row + what + " has " + std::to_string(p.range_mm.size()) +
+                           " points, expected vts.scanner.points = " + std::to_string(n)));
+  };
+  check_size(profile, "profile");
+  if (m.info.has_reference && !reference)
+    throw ExrError(m.err(row + "the file has reference channels but no reference was given"));
+  if (!m.info.has_reference && reference)
+    throw ExrError(m.err(row + "a reference was given but the file has no reference channels"));
+  if (reference) check_size(*reference, "reference");
+
+  const std::size_t off = std::size_t(m.chunk_rows) * m.width;
+  auto put_points = [&](const Profile& p, int first) {
+    std::copy(p.range_mm.begin(), p.range_mm.end(), m.points[first + 0].begin() + off);
+    std::copy(p.y_mm.begin(), p.y_mm.end(), m.points[first + 1].begin() + off);
+    std::copy(p.z_mm.begin(), p.z_mm.end(), m.points[first + 2].begin() + off);
+    float* v = m.points[first + 3].data() + off;
+    for (int i = 0; i < m.width; ++i) v[i] = p.valid[i] ? 1.0f : 0.0f;
+  };
+  put_points(profile, 0);
+  if (reference) put_points(*reference, 4);
+  const std::array<double, 8> values = row_values(profile);
+  for (int c = 0; c < 8; ++c) {
+    const auto bits = std::bit_cast<std::uint64_t>(values[c]);
+    m.row_f[c][m.chunk_rows] = static_cast<float>(values[c]);
+    m.row_hi[c][m.chunk_rows] = static_cast<std::uint32_t>(bits >> 32);
+    m.row_lo[c][m.chunk_rows] = static_cast<std::uint32_t>(bits);
+  }
+  ++m.chunk_rows;
+  ++m.rows_written;
+  if (m.chunk_rows == kChunkRows) m.flush();
+}
+
+void ProfileExrWriter::finish() {
+  Impl& m = *impl_;
+  if (m.finished) return;
+  if (m.failed) {
+    m.discard();
+    throw ExrError(m.err("finish() after a failed write; nothing was saved"));
+  }
+  if (m.rows_written < m.info.profiles) {
+    m.discard();
+    throw ExrError(m.err("only " + std::to_string(m.rows_written) + " of " +
+                         std::to_string(m.info.profiles) + " rows were written; nothing was saved"));
+  }
+  try {
+    m.flush();
+    m.file.reset();
+    m.stream.reset();
+    m.ofs.flush();
+    m.ofs.close();
+  } catch (const std::exception& e) {
+    m.discard();
+    throw ExrError(m.err(std::string("closing: ") + e.what()));
+  }
+  if (!m.ofs) {
+    m.discard();
+    throw ExrError(m.err("writing '" + m.tmp.string() + "' failed"));
+  }
+  std::error_code ec;
+  fs::rename(m.tmp, m.path, ec);
+  if (ec) {
+    m.discard();
+    throw ExrError(m.err("cannot rename '" + m.tmp.string() + "' onto it: " + ec.message()));
+  }
+  m.finished = true;
+}
+
+namespace {
+
+struct Reader {
+  fs::path path;
+  const Imf::Header* header = nullptr;
+
+  ExrError fail(const std::string& what) const { return ExrError(where(path) + ": " + what); }
+
+  const std::string& text(const char* name) const {
+    if (const auto* a = header->findTypedAttribute<Imf::StringAttribute>(name)) return a->value();
+    if (const auto it = header->find(name); it != header->end())
+      throw fail(std::string("attribute ") + name + " has type " + it.attribute().typeName() +
+                 ", expected string");
+    throw fail(std::string("attribute ") + name + " is missing");
+  }
+
+  double number(const char* name) const {
+    const std::string& s = text(name);
+    double v = 0.0;
+    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (res.ec != std::errc() || res.ptr != s.data() + s.size())
+      throw fail(std::string("attribute ") + name + " = '" + s + "': not a number");
+    return v;
+  }
+
+  int integer(const char* name) const {
+    const std::string& s = text(name);
+    int v = 0;
+    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (res.ec != std::errc() || res.ptr != s.data() + s.size())
+      throw fail(std::string("attribute ") + name + " = '" + s + "': not an integer");
+    return v;
+  }
+
+  Pose matrix(const char* name) const {
+    const std::string& s = text(name);
+    std::array<double, 16> m{};
+    const char* p = s.data();
+    const char* end = s.data() + s.size();
+    int count = 0;
+    while (p < end) {
+      if (*p == ' ') {
+        ++p;
+        continue;
+      }
+      double v = 0.0;
+      const auto res = std::from_chars(p, end, v);
+      if (res.ec != std::errc() || (res.ptr != end && *res.ptr != ' ') || count == 16)
+        throw fail(std::string("attribute ") + name + " = '" + s +
+                   "': expected 16 numbers (4x4 matrix, row by row)");
+      m[count++] = v;
+      p = res.ptr;
+    }
+    if (count != 16)
+      throw fail(std::string("attribute ") + name + " = '" + s + "': has " +
+                 std::to_string(count) + " numbers, expected 16 (4x4 matrix, row by row)");
+    if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0)
+      throw fail(std::string("attribute ") + name + " = '" + s +
+                 "': last row must be 0 0 0 1");
+    Pose pose = Pose::Identity();
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) pose.matrix()(r, c) = m[4 * r + c];
+    return pose;
+  }
+
+  // Throws unless the channel exists with this type and sampling.
+  void require_channel(const std::string& name, Imf::PixelType type, int xs) const {
+    const Imf::Channel* ch = header->channels().findChannel(name);
+    if (!ch) throw fail("channel '" + name + "' is missing");
+    if (ch->type != type)
+      throw fail("channel '" + name + "' has pixel type " + std::to_string(int(ch->type)) +
+                 ", expected " + (type == Imf::FLOAT ? "FLOAT (2)" : "UINT (0)"));
+    if (ch->xSampling != xs || ch->ySampling != 1)
+      throw fail("channel '" + name + "' has sampling " + std::to_string(ch->xSampling) + " " +
+                 std::to_string(ch->ySampling) + ", expected " + std::to_string(xs) + " 1");
+  }
+
+  ProfileRecording read();
+};
+
+ProfileRecording Reader::read() {
+  Imf::InputFile in(path.c_str());
+  header = &in.header();
+  ProfileRecording rec;
+  ProfileFileInfo& info = rec.info;
+
+  if (const std::string& f = text("vts.format"); f != kFormat)
+    throw fail("attribute vts.format = '" + f + "', expected '" + kFormat + "'");
+  ScannerDesc& s = info.scanner;
+  s.name = text("vts.scanner.name");
+  s.fan_deg = number("vts.scanner.fan_deg");
+  s.points = integer("vts.scanner.points");
+  s.min_range_mm = number("vts.scanner.min_range_mm");
+  s.max_range_mm = number("vts.scanner.max_range_mm");
+  s.max_hit_mm = number("vts.scanner.max_hit_mm");
+  s.rate_hz = number("vts.scanner.rate_hz");
+  s.tool_from_laser = matrix("vts.scanner.tool_from_laser");
+  if (const std::string why = validate(s); !why.empty())
+    throw fail("attribute vts.scanner." + why);
+  info.scene_name = text("vts.scene.name");
+  info.scene_text = text("vts.scene.yaml");
+  const std::string& ref = text("vts.reference");
+  if (ref == kReferenceKind)
+    info.has_reference = true;
+  else if (ref != kNoReference)
+    throw fail("attribute vts.reference = '" + ref + "', expected '" + kReferenceKind +
+               "' or '" + kNoReference + "'");
+
+  const Imath::Box2i dw = header->dataWindow();
+  const int width = dw.max.x - dw.min.x + 1;
+  const int height = dw.max.y - dw.min.y + 1;
+  if (dw.min.x != 0 || dw.min.y != 0)
+    throw fail("dataWindow starts at (" + std::to_string(dw.min.x) + " " +
+               std::to_string(dw.min.y) + "), expected (0 0)");
+  if (width != s.points)
+    throw fail("image width " + std::to_string(width) + " does not match vts.scanner.points = " +
+               std::to_string(s.points));
+  info.profiles = height;
+
+  const int np = info.has_reference ? 8 : 4;
+  for (int c = 0; c < np; ++c)
+    require_channel(c < 4 ? kPointNames[c] : kRefPointNames[c - 4], Imf::FLOAT, 1);
+  // Exact doubles when both bit channels are there, else the FLOAT rounding.
+  std::array<bool, 8> exact{};
+  for (int c = 0; c < 8; ++c) {
+    const std::string name = kRowNames[c];
+    require_channel(name, Imf::FLOAT, width);
+    const bool hi = header->channels().findChannel(kHiPrefix + name) != nullptr;
+    const bool lo = header->channels().findChannel(kLoPrefix + name) != nullptr;
+    if (hi != lo)
+      throw fail("channel '" + (hi ? kHiPrefix + name : kLoPrefix + name) + "' is there but '" +
+                 (hi ? kLoPrefix + name : kHiPrefix + name) + "' is missing");
+    if (hi) {
+      require_channel(kHiPrefix + name, Imf::UINT, width);
+      require_channel(kLoPrefix + name, Imf::UINT, width);
+    }
+    exact[c] = hi;
+  }
+
+  std::array<std::vector<float>, 8> points;
+  std::array<std::vector<float>, 8> row_f;
+  std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
+  for (int c = 0; c < np; ++c) points[c].resize(std::size_t(kChunkRows) * width);
+  for (int c = 0; c < 8; ++c) {
+    row_f[c].resize(kChunkRows);
+    row_hi[c].resize(kChunkRows);
+    row_lo[c].resize(kChunkRows);
+  }
+  rec.profiles.resize(height);
+  if (info.has_reference) rec.reference.resize(height);
+
+  const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
+  for (int first = 0; first < height; first += kChunkRows) {
+    const int rows = std::min(kChunkRows, height - first);
+    const Imath::V2i origin(0, first);
+    Imf::FrameBuffer fb;
+    for (int c = 0; c < np; ++c)
+      fb.insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4],
+                Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows,
+                                 fstride, fstride * width));
+    for (int c = 0; c < 8; ++c) {
+      const std::string name = kRowNames[c];
+      fb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, width, kChunkRows,
+                                       fstride, fstride, width, 1));
+      if (!exact[c]) continue;
+      fb.insert(kHiPrefix + name, Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, width,
+                                                   kChunkRows, ustride, ustride, width, 1));
+      fb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, width,
+                                                   kChunkRows, ustride, ustride, width, 1));
+    }
+    in.setFrameBuffer(fb);
+    in.readPixels(first, first + rows - 1);
+
+    for (int r = 0; r < rows; ++r) {
+      const int y = first + r;
+      std::array<double, 8> v{};
+      for (int c = 0; c < 8; ++c)
+        v[c] = exact[c] ? std::bit_cast<double>((std::uint64_t(row_hi[c][r]) << 32) | row_lo[c][r])
+                        : double(row_f[c][r]);
+      const Pose pose = pose_from_quat(Vec3(v[0], v[1], v[2]),
+                                       Eigen::Quaterniond(v[3], v[4], v[5], v[6]));
+      auto take = [&](Profile& p, int base, const char* valid_name) {
+        p.resize(width);
+        const std::size_t off = std::size_t(r) * width;
+        std::copy_n(points[base + 0].begin() + off, width, p.range_mm.begin());
+        std::copy_n(points[base + 1].begin() + off, width, p.y_mm.begin());
+        std::copy_n(points[base + 2].begin() + off, width, p.z_mm.begin());
+        const float* valid = points[base + 3].data() + off;
+        for (int i = 0; i < width; ++i) {
+          if (valid[i] != 0.0f && valid[i] != 1.0f) {
+            std::ostringstream s;
+            s << "channel '" << valid_name << "' row " << y << " column " << i << " = "
+              << valid[i] << ", expected 0 or 1";
+            throw fail(s.str());
+          }
+          p.valid[i] = valid[i] == 1.0f ? 1 : 0;
+        }
+        p.world_from_sensor = pose;
+        p.time_s = v[7];
+        p.index = y;
+      };
+      take(rec.profiles[y], 0, "valid");
+      if (info.has_reference) take(rec.reference[y], 4, "ref.valid");
+    }
+  }
+  return rec;
+}
+
+}  // namespace
+
+ProfileRecording read_profile_exr(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw ExrError(where(path) + ": no such file");
+  if (fs::is_directory(path, ec)) throw ExrError(where(path) + ": is a directory");
+  {
+    // OpenEXR's own message for a short non-EXR file is "Early end of file".
+    std::ifstream probe(path, std::ios::binary);
+    unsigned char magic[4] = {};
+    if (!probe) throw ExrError(where(path) + ": cannot open: " + std::strerror(errno));
+    probe.read(reinterpret_cast<char*>(magic), 4);
+    if (probe.gcount() != 4 || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 ||
+        magic[3] != 0x01)
+      throw ExrError(where(path) + ": not an OpenEXR file (no EXR magic number)");
+  }
+  Reader reader{path};
+  try {
+    return reader.read();
+  } catch (const ExrError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExrError(where(path) + ": " + e.what());
+  } catch (...) {
+    throw ExrError(where(path) + ": unknown error while reading");
+  }
+}
+
+}  // namespace vts

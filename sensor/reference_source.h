@@ -1,0 +1,30 @@
+#pragma once
+// The ray-cast reference: casts exactly the column rays of sensor/rays.h
+// against the mesh with Embree 3 (robust scene, high build quality) and turns
+// each hit distance into a sample with vts::set_column, so it filters exactly
+// as the raster emulator does. It is the ground truth the raster emulator is
+// held against.
+#include <memory>
+
+#include "sensor/mesh.h"
+#include "sensor/profile_source.h"
+#include "sensor/scanner.h"
+
+namespace vts {
+
+// Builds the Embree scene once from `mesh_world` (world frame, mm); the mesh is
+// copied, so it need not outlive the source. An empty mesh is allowed (every
+// column invalid). kind() == "reference".
+//
+// scan() sets out.world_from_sensor to the pose and resizes `out` to
+// desc.points (no allocation when it already has that size); it leaves
+// out.time_s and out.index to the caller. scan_batch() spreads large batches
+// over the hardware threads.
+//
+// Throws std::invalid_argument if validate(desc) fails or a triangle indexes a
+// vertex that does not exist, std::runtime_error with Embree's message if
+// Embree fails.
+std::unique_ptr<ProfileSource> make_reference_source(const ScannerDesc& desc,
+                                                     const Mesh& mesh_world);
+
+}  // namespace vts

@@ -1,0 +1,352 @@
+#include <catch2/catch.hpp>
+
+#include <unistd.h>
+
+#include <bit>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "sensor/pose.h"
+#include "sensor/profile_exr.h"
+
+namespace fs = std::filesystem;
+using vts::ExrError;
+using vts::Profile;
+using vts::ProfileExrWriter;
+using vts::ProfileFileInfo;
+
+namespace {
+
+// A fresh directory under the system temp dir, removed at the end of the test.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    static int counter = 0;
+    path = fs::temp_directory_path() /
+           ("vts_exr_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename());
+    return names;
+  }
+};
+
+ProfileFileInfo make_info(int points, int profiles, bool reference) {
+  ProfileFileInfo info;
+  info.scanner.name = "test scanner";
+  info.scanner.points = points;
+  info.scanner.fan_deg = 0.1 + 0.2;  // not representable in few digits
+  info.scanner.min_range_mm = 1.0 / 3.0;
+  info.scanner.max_range_mm = 987.654321e0;
+  info.scanner.max_hit_mm = 1234.5;
+  info.scanner.rate_hz = 299.999;
+  info.scanner.tool_from_laser =
+      vts::pose_from_xyz_rpy(vts::Vec3(50.0, -1e-7, 100.0 / 7.0), vts::Vec3(1.0, -2.0, 33.3));
+  info.scene_name = "cells/t_joint.yaml";
+  info.scene_text = "# scene\nworkpiece:\n  type: t_joint\n  plate_mm: [200, 100, 8]\n\"quoted\": 'x'\n";
+  info.profiles = profiles;
+  info.has_reference = reference;
+  return info;
+}
+
+Profile random_profile(std::mt19937& rng, int points, std::int64_t index) {
+  std::uniform_real_distribution<float> yd(-300.0f, 300.0f), zd(20.0f, 1000.0f);
+  std::uniform_real_distribution<double> td(-2000.0, 2000.0), qd(-1.0, 1.0);
+  Profile p;
+  p.resize(points);
+  for (int i = 0; i < points; ++i) {
+    if (rng() % 5 == 0) continue;  // invalid: zeros, as the sources store them
+    p.valid[i] = 1;
+    p.y_mm[i] = yd(rng);
+    p.z_mm[i] = zd(rng);
+    p.range_mm[i] = std::hypot(p.y_mm[i], p.z_mm[i]);
+  }
+  Eigen::Quaterniond q(qd(rng), qd(rng), qd(rng), qd(rng));
+  p.world_from_sensor = vts::pose_from_quat(vts::Vec3(td(rng), td(rng), td(rng)), q);
+  p.time_s = 12345.0 + index / 299.999 + 1e-9 * (rng() % 1000);
+  p.index = index;
+  return p;
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (std::bit_cast<std::uint32_t>(a[i]) != std::bit_cast<std::uint32_t>(b[i])) return false;
+  return true;
+}
+
+void check_same(const Profile& got, const Profile& want) {
+  REQUIRE(got.index == want.index);
+  REQUIRE(same_bits(got.range_mm, want.range_mm));
+  REQUIRE(same_bits(got.y_mm, want.y_mm));
+  REQUIRE(same_bits(got.z_mm, want.z_mm));
+  REQUIRE(got.valid == want.valid);
+  REQUIRE(got.time_s == want.time_s);
+  REQUIRE(got.world_from_sensor.translation() == want.world_from_sensor.translation());
+  REQUIRE((got.world_from_sensor.matrix() - want.world_from_sensor.matrix()).cwiseAbs().maxCoeff() <
+          1e-12);
+}
+
+// Writes `rows` random profiles (and references) and returns what was written.
+struct Written {
+  std::vector<Profile> profiles, reference;
+};
+Written write_random(const fs::path& file, const ProfileFileInfo& info, unsigned seed) {
+  std::mt19937 rng(seed);
+  Written w;
+  ProfileExrWriter writer(file, info);
+  for (int r = 0; r < info.profiles; ++r) {
+    w.profiles.push_back(random_profile(rng, info.scanner.points, r));
+    if (info.has_reference) {
+      w.reference.push_back(random_profile(rng, info.scanner.points, r));
+      w.reference.back().world_from_sensor = w.profiles.back().world_from_sensor;
+      w.reference.back().time_s = w.profiles.back().time_s;
+    }
+    writer.write(w.profiles.back(), info.has_reference ? &w.reference.back() : nullptr);
+  }
+  writer.finish();
+  return w;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void spit(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out << bytes;
+}
+
+// Renames a channel in the header of an EXR file image. Same length and same
+// sort position keep the file valid.
+std::string rename_channel(std::string b, const std::string& from, const std::string& to) {
+  REQUIRE(from.size() == to.size());
+  const std::string key = std::string(1, '\0') + from + '\0';
+  const auto at = b.find(key);
+  REQUIRE(at != std::string::npos);
+  REQUIRE(b.find(key, at + 1) == std::string::npos);
+  b.replace(at + 1, from.size(), to);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("exr: round trip is bit-exact", "[exr]") {
+  TempDir dir;
+  const bool reference = GENERATE(false, true);
+  const int rows = GENERATE(1, 64, 203);  // below, at and across the chunk size
+  INFO("reference " << reference << ", rows " << rows);
+  const ProfileFileInfo info = make_info(96, rows, reference);
+  const fs::path file = dir.path / "sub" / "run.exr";  // the writer makes "sub"
+  const Written w = write_random(file, info, 1234u + rows);
+  CHECK(dir.entries() == std::vector<std::string>{"sub"});
+  CHECK(fs::exists(file));
+  CHECK(std::distance(fs::directory_iterator(file.parent_path()), fs::directory_iterator()) == 1);
+
+  const vts::ProfileRecording rec = vts::read_profile_exr(file);
+  const vts::ScannerDesc& s = rec.info.scanner;
+  CHECK(s.name == info.scanner.name);
+  CHECK(s.points == info.scanner.points);
+  CHECK(s.fan_deg == info.scanner.fan_deg);
+  CHECK(s.min_range_mm == info.scanner.min_range_mm);
+  CHECK(s.max_range_mm == info.scanner.max_range_mm);
+  CHECK(s.max_hit_mm == info.scanner.max_hit_mm);
+  CHECK(s.rate_hz == info.scanner.rate_hz);
+  CHECK(s.tool_from_laser.matrix() == info.scanner.tool_from_laser.matrix());
+  CHECK(rec.info.scene_name == info.scene_name);
+  CHECK(rec.info.scene_text == info.scene_text);
+  CHECK(rec.info.profiles == rows);
+  CHECK(rec.info.has_reference == reference);
+
+  REQUIRE(rec.profiles.size() == std::size_t(rows));
+  REQUIRE(rec.reference.size() == (reference ? std::size_t(rows) : 0u));
+  for (int r = 0; r < rows; ++r) {
+    INFO("row " << r);
+    check_same(rec.profiles[r], w.profiles[r]);
+    if (reference) check_same(rec.reference[r], w.reference[r]);
+  }
+}
+
+TEST_CASE("exr: writer rejects rows out of order, extra rows and wrong sizes", "[exr]") {
+  TempDir dir;
+  const fs::path file = dir.path / "bad.exr";
+  std::mt19937 rng(7);
+  ProfileExrWriter writer(file, make_info(32, 3, false));
+  Profile p = random_profile(rng, 32, 1);
+  CHECK_THROWS_WITH(writer.write(p), Catch::Contains("bad.exr") && Catch::Contains("index = 1"));
+  p.index = 0;
+  Profile wrong = random_profile(rng, 31, 0);
+  CHECK_THROWS_WITH(writer.write(wrong), Catch::Contains("has 31 points"));
+  CHECK_THROWS_WITH(writer.write(p, &p), Catch::Contains("no reference channels"));
+  writer.write(p);
+  for (int r = 1; r < 3; ++r) {
+    p.index = r;
+    writer.write(p);
+  }
+  p.index = 3;
+  CHECK_THROWS_AS(writer.write(p), ExrError);
+  CHECK_THROWS_WITH(writer.write(p), Catch::Contains("more rows than the 3 announced"));
+  writer.finish();
+  CHECK(vts::read_profile_exr(file).profiles.size() == 3);
+  CHECK(dir.entries() == std::vector<std::string>{"bad.exr"});
+}
+
+TEST_CASE("exr: a writer destroyed without finish leaves nothing", "[exr]") {
+  TempDir dir;
+  const fs::path file = dir.path / "unfinished.exr";
+  std::mt19937 rng(8);
+  {
+    ProfileExrWriter writer(file, make_info(32, 200, false));
+    for (int r = 0; r < 100; ++r) writer.write(random_profile(rng, 32, r));
+    CHECK(dir.entries().size() == 1);  // the temporary file
+    CHECK_FALSE(fs::exists(file));
+  }
+  CHECK(dir.entries().empty());
+}
+
+TEST_CASE("exr: finish with too few rows throws and leaves nothing", "[exr]") {
+  TempDir dir;
+  const fs::path file = dir.path / "short.exr";
+  std::mt19937 rng(9);
+  ProfileExrWriter writer(file, make_info(32, 10, true));
+  for (int r = 0; r < 4; ++r) {
+    const Profile p = random_profile(rng, 32, r);
+    writer.write(p, &p);
+  }
+  CHECK_THROWS_WITH(writer.finish(),
+                    Catch::Contains("short.exr") && Catch::Contains("only 4 of 10 rows"));
+  CHECK(dir.entries().empty());
+}
+
+TEST_CASE("exr: an existing file is replaced only on finish", "[exr]") {
+  TempDir dir;
+  const fs::path file = dir.path / "run.exr";
+  write_random(file, make_info(16, 5, false), 1u);
+  {
+    ProfileExrWriter writer(file, make_info(16, 9, false));
+  }
+  CHECK(vts::read_profile_exr(file).info.profiles == 5);
+  write_random(file, make_info(16, 9, false), 2u);
+  CHECK(vts::read_profile_exr(file).info.profiles == 9);
+  CHECK(dir.entries() == std::vector<std::string>{"run.exr"});
+}
+
+TEST_CASE("exr: writer errors name the file", "[exr]") {
+  TempDir dir;
+  spit(dir.path / "plain", "x");
+  // A directory cannot be made below a regular file.
+  CHECK_THROWS_WITH(ProfileExrWriter(dir.path / "plain" / "x.exr", make_info(16, 1, false)),
+                    Catch::Contains("x.exr") && Catch::Contains("cannot create directory"));
+  CHECK_THROWS_WITH(ProfileExrWriter(dir.path / "zero.exr", make_info(16, 0, false)),
+                    Catch::Contains("zero.exr") && Catch::Contains("profiles = 0"));
+  CHECK_THROWS_WITH(ProfileExrWriter(dir.path / "few.exr", make_info(8, 1, false)),
+                    Catch::Contains("few.exr") && Catch::Contains("points = 8"));
+}
+
+TEST_CASE("exr: reading bad files gives errors naming the file", "[exr]") {
+  TempDir dir;
+  const fs::path good = dir.path / "good.exr";
+  write_random(good, make_info(64, 300, true), 3u);
+  const std::string bytes = slurp(good);
+
+  SECTION("missing file") {
+    const fs::path missing = dir.path / "missing.exr";
+    CHECK_THROWS_WITH(vts::read_profile_exr(missing),
+                      Catch::Contains("missing.exr") && Catch::Contains("no such file"));
+  }
+  SECTION("a text file") {
+    const fs::path text = dir.path / "notes.txt";
+    spit(text, "this is not an EXR file\n");
+    CHECK_THROWS_WITH(vts::read_profile_exr(text),
+                      Catch::Contains("notes.txt") && Catch::Contains("not an OpenEXR file"));
+  }
+  SECTION("a truncated file") {
+    const fs::path cut = dir.path / "cut.exr";
+    spit(cut, bytes.substr(0, bytes.size() * 6 / 10));
+    CHECK_THROWS_WITH(vts::read_profile_exr(cut), Catch::Contains("cut.exr"));
+  }
+  SECTION("a file cut inside its header") {
+    const fs::path cut = dir.path / "cut_header.exr";
+    spit(cut, bytes.substr(0, 300));
+    CHECK_THROWS_WITH(vts::read_profile_exr(cut), Catch::Contains("cut_header.exr"));
+  }
+  auto renamed = [&](const std::string& from, const std::string& to) {
+    return rename_channel(bytes, from, to);
+  };
+  SECTION("no range channel") {
+    const fs::path f = dir.path / "norange.exr";
+    spit(f, renamed("range", "rangf"));
+    CHECK_THROWS_WITH(vts::read_profile_exr(f),
+                      Catch::Contains("norange.exr") && Catch::Contains("'range' is missing"));
+  }
+  SECTION("no ref.valid channel while vts.reference says there is a reference") {
+    const fs::path f = dir.path / "noref.exr";
+    spit(f, renamed("ref.valid", "ref.valie"));
+    CHECK_THROWS_WITH(vts::read_profile_exr(f),
+                      Catch::Contains("noref.exr") && Catch::Contains("'ref.valid' is missing"));
+  }
+  SECTION("half of an exact pose channel pair") {
+    const fs::path f = dir.path / "half.exr";
+    spit(f, renamed("f64lo.time", "f64lo.timf"));
+    CHECK_THROWS_WITH(vts::read_profile_exr(f),
+                      Catch::Contains("half.exr") && Catch::Contains("'f64lo.time' is missing"));
+  }
+  SECTION("unparsable attribute") {
+    const fs::path f = dir.path / "badattr.exr";
+    std::string b = bytes;
+    const std::string key = "vts.scanner.fan_deg";
+    const auto at = b.find(key);
+    REQUIRE(at != std::string::npos);
+    // name\0 "string"\0 size(4) value: spoil the value's first character.
+    const auto value = at + key.size() + 1 + 7 + 4;
+    b[value] = 'x';
+    spit(f, b);
+    CHECK_THROWS_WITH(vts::read_profile_exr(f), Catch::Contains("badattr.exr") &&
+                                                    Catch::Contains("vts.scanner.fan_deg") &&
+                                                    Catch::Contains("not a number"));
+  }
+  SECTION("width does not match vts.scanner.points") {
+    const fs::path f = dir.path / "width.exr";
+    std::string b = bytes;
+    const std::string key = std::string("vts.scanner.points") + '\0' + "string" + '\0';
+    const auto at = b.find(key);
+    REQUIRE(at != std::string::npos);
+    REQUIRE(b.substr(at + key.size() + 4, 2) == "64");
+    b[at + key.size() + 4] = '3';  // "34"
+    spit(f, b);
+    CHECK_THROWS_WITH(vts::read_profile_exr(f), Catch::Contains("width.exr") &&
+                                                    Catch::Contains("width 64") &&
+                                                    Catch::Contains("vts.scanner.points = 34"));
+  }
+}
+
+TEST_CASE("exr: without the exact f64 channels the FLOAT pose channels are used", "[exr]") {
+  TempDir dir;
+  const fs::path good = dir.path / "good.exr";
+  const Written w = write_random(good, make_info(16, 20, false), 4u);
+  const fs::path f = dir.path / "float_time.exr";
+  spit(f, rename_channel(rename_channel(slurp(good), "f64hi.time", "f64hi.timf"), "f64lo.time",
+                         "f64lo.timf"));
+  const vts::ProfileRecording rec = vts::read_profile_exr(f);
+  REQUIRE(rec.profiles.size() == 20);
+  for (int r = 0; r < 20; ++r) {
+    INFO("row " << r);
+    CHECK(rec.profiles[r].time_s == double(static_cast<float>(w.profiles[r].time_s)));
+    CHECK(rec.profiles[r].time_s != w.profiles[r].time_s);
+    CHECK(rec.profiles[r].world_from_sensor.translation() ==
+          w.profiles[r].world_from_sensor.translation());
+  }
+}
