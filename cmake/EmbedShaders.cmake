@@ -10,12 +10,15 @@ function(vts_embed_shaders)
   foreach(f ${ES_FILES})
     list(APPEND inputs ${CMAKE_CURRENT_SOURCE_DIR}/${f})
   endforeach()
+  # A CMake list does not survive a command line; pass the inputs '|'-joined.
+  string(REPLACE ";" "|" inputs_arg "${inputs}")
   add_custom_command(
     OUTPUT ${out_cpp} ${out_h}
     COMMAND ${CMAKE_COMMAND} -DOUT_CPP=${out_cpp} -DOUT_H=${out_h}
-            "-DINPUTS=${inputs}" -P ${PROJECT_SOURCE_DIR}/cmake/EmbedShadersScript.cmake
+            "-DINPUTS=${inputs_arg}" -P ${PROJECT_SOURCE_DIR}/cmake/EmbedShadersScript.cmake
     DEPENDS ${inputs} ${PROJECT_SOURCE_DIR}/cmake/EmbedShadersScript.cmake
-    COMMENT "Embedding shaders")
+    COMMENT "Embedding shaders"
+    VERBATIM)
   add_library(${ES_TARGET} STATIC ${out_cpp} ${out_h})
   target_include_directories(${ES_TARGET} PUBLIC ${CMAKE_CURRENT_BINARY_DIR})
 endfunction()

@@ -1,4 +1,5 @@
 # Run by vts_embed_shaders in script mode: INPUTS, OUT_CPP, OUT_H.
+string(REPLACE "|" ";" INPUTS "${INPUTS}")
 set(decls "")
 set(defs "")
 foreach(f ${INPUTS})
