@@ -22,7 +22,8 @@ Pose pose_from_xyz_rpy(const Vec3& position_mm, const Vec3& rpy_deg) {
 Vec3 rpy_deg_of(const Pose& pose) {
   const Eigen::Matrix3d& r = pose.linear();
   // R = Rz(y) Ry(p) Rx(r): r20 = -sin(p).
-  const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  // atan2 keeps full precision near pitch = +-90 degrees, where asin does not.
+  const double pitch = std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)));
   double roll, yaw;
   if (std::abs(r(2, 0)) < 1.0 - 1e-12) {
     roll = std::atan2(r(2, 1), r(2, 2));

@@ -156,6 +156,7 @@ void ProfileExrWriter::Impl::open() {
   put("vts.scene.name", info.scene_name);
   put("vts.scene.yaml", info.scene_text);
   put("vts.reference", info.has_reference ? kReferenceKind : kNoReference);
+  put("vts.seed", std::to_string(info.seed));
 
   for (int c = 0; c < np; ++c) points[c].assign(std::size_t(kChunkRows) * width, 0.0f);
   for (int c = 0; c < 8; ++c) {
@@ -342,9 +343,10 @@ struct Reader {
     return v;
   }
 
-  int integer(const char* name) const {
+  template <class Int = int>
+  Int integer(const char* name) const {
     const std::string& s = text(name);
-    int v = 0;
+    Int v = 0;
     const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
     if (res.ec != std::errc() || res.ptr != s.data() + s.size())
       throw fail(std::string("attribute ") + name + " = '" + s + "': not an integer");
@@ -418,6 +420,7 @@ ProfileRecording Reader::read() {
     throw fail("attribute vts.scanner." + why);
   info.scene_name = text("vts.scene.name");
   info.scene_text = text("vts.scene.yaml");
+  info.seed = integer<std::uint64_t>("vts.seed");
   const std::string& ref = text("vts.reference");
   if (ref == kReferenceKind)
     info.has_reference = true;

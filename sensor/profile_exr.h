@@ -10,6 +10,7 @@
 // hold them rounded to float, and UINT per-row channels f64hi.<name> and
 // f64lo.<name> hold the high and low 32 bits of the IEEE binary64 value, so
 // poses and times round-trip exactly.
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -32,6 +33,7 @@ struct ProfileFileInfo {
   std::string scene_text;  // the scene as YAML (docs/SCENE_FORMAT.md)
   int profiles = 0;        // rows
   bool has_reference = false;
+  std::uint64_t seed = 0;  // seed of the sensor error model's random draws
 };
 
 // Streams rows to `path + ".tmp-<pid>"` and renames onto `path` in finish().

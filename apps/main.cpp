@@ -1,0 +1,81 @@
+// vts: command-line front end (docs/CLI.md).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/scan.h"
+#include "apps/vts_plot.h"
+#include "sensor/cell.h"
+
+
+namespace {
+
+int list_cells() {
+  std::size_t width = 0;
+  for (const auto& name : vts::builtin_cell_names()) width = std::max(width, name.size());
+  for (const auto& name : vts::builtin_cell_names()) {
+    std::string padded = name;
+    padded.resize(width, ' ');
+    std::cout << padded << "  " << vts::builtin_cell_description(name)
+              << (name == vts::kDefaultCell ? " (default)" : "") << "\n";
+  }
+  return vts::cli::kExitOk;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"vts: virtual laser-triangulation seam sensor emulator for robotic arc welding.\n"
+               "Lengths are in mm, angles in degrees, rates in Hz.",
+               "vts"};
+  app.set_version_flag("--version", "vts " VTS_VERSION);
+  app.require_subcommand(0, 1);
+
+  vts::cli::ScanOptions scan_options;
+  CLI::App* scan = vts::cli::add_scan_command(app, scan_options);
+  CLI::App* cells = app.add_subcommand("cells", "List the built-in cells, one line each");
+  int plot_exit = vts::cli::kExitOk;
+  CLI::App* plot = vts::apps::add_plot_command(app, plot_exit);  // runs from its callback
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // Help and --version exit 0; every parse error is a usage error.
+    const int code = app.exit(e);
+    return code == 0 ? vts::cli::kExitOk : vts::cli::kExitUsage;
+  }
+
+  if (scan->parsed()) {
+    try {
+      return vts::cli::run_scan(scan_options);
+    } catch (const vts::cli::UsageError& e) {
+      std::cerr << "vts scan: " << e.what() << "\n";
+      return vts::cli::kExitUsage;
+    }
+  }
+  if (cells->parsed()) return list_cells();
+  if (plot->parsed()) return plot_exit;
+  std::cout << app.help();
+  return vts::cli::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // llvmpipe's own rasterizer threads slow one-row targets down (stack.md);
+  // a user's explicit setting wins.
+  ::setenv("LP_NUM_THREADS", "0", 0);
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::cerr << "vts: error: " << e.what() << "\n";
+    return vts::cli::kExitRuntime;
+  } catch (...) {
+    std::cerr << "vts: error: unknown exception\n";
+    return vts::cli::kExitRuntime;
+  }
+}

@@ -1,0 +1,443 @@
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/scan.h"
+#include "render/raster_source.h"
+#include "sensor/cell.h"
+#include "sensor/profile_exr.h"
+#include "sensor/reference_source.h"
+#include "sensor/scene_file.h"
+
+namespace vts::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string names_list() {
+  std::string s;
+  for (const auto& n : builtin_cell_names()) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+[[noreturn]] void bad(const std::string& option, const std::string& value, const std::string& why) {
+  throw UsageError(option + " = '" + value + "': " + why);
+}
+
+double parse_number(const std::string& option, const std::string& text, const char* unit) {
+  const std::string expected = std::string("expected a number") + (*unit ? " in " : "") + unit;
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) bad(option, text, expected);
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) bad(option, text, expected);
+  if (!std::isfinite(v)) bad(option, text, "must be a finite number");
+  return v;
+}
+
+double parse_positive(const std::string& option, const std::string& text, const char* unit) {
+  const double v = parse_number(option, text, unit);
+  if (v <= 0.0) bad(option, text, std::string("must be > 0 ") + unit);
+  return v;
+}
+
+long long parse_integer(const std::string& option, const std::string& text, long long lo,
+                        long long hi) {
+  const std::string range = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+  std::string t = text;
+  if (!t.empty() && t.front() == '+') t.erase(0, 1);
+  long long v = 0;
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (r.ec == std::errc::result_out_of_range) bad(option, text, "out of range: expected " + range);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size()) bad(option, text, "expected " + range);
+  if (v < lo || v > hi) bad(option, text, "out of range: expected " + range);
+  return v;
+}
+
+std::uint64_t parse_seed(const std::string& option, const std::string& text) {
+  std::uint64_t v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size())
+    bad(option, text, "expected an unsigned 64-bit integer (0 .. 18446744073709551615)");
+  return v;
+}
+
+Vec3 parse_vec3(const std::string& option, const std::string& text, const char* unit) {
+  std::vector<std::string> parts;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', pos);
+    parts.push_back(text.substr(pos, comma - pos));
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  const std::string expected =
+      std::string("expected three comma-separated numbers X,Y,Z") + (*unit ? " in " : "") + unit;
+  if (parts.size() != 3) bad(option, text, expected + ", got " + std::to_string(parts.size()));
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) {
+    char* end = nullptr;
+    const std::string& p = parts[i];
+    const double x = p.empty() ? 0.0 : std::strtod(p.c_str(), &end);
+    if (p.empty() || std::isspace(static_cast<unsigned char>(p.front())) ||
+        end != p.c_str() + p.size())
+      bad(option, text, expected + " ('" + p + "' is not a number)");
+    if (!std::isfinite(x)) bad(option, text, "must be finite numbers");
+    v[i] = x;
+  }
+  return v;
+}
+
+// File-name-safe version of a cell name for the default output file.
+std::string file_stem_for(const std::string& name) {
+  std::string s = name;
+  for (char& c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) c = '_';
+  if (s.empty() || s == "." || s == "..") s = "scan";
+  return s;
+}
+
+// Everything run_scan needs, checked.
+struct ScanPlan {
+  Cell cell;
+  std::string scene_label;  // cell name or scene file path
+  fs::path out;             // absolute
+  bool main_is_reference = false;
+  bool with_reference = false;
+  std::optional<std::uint64_t> seed;
+};
+
+ScanPlan plan_scan(const ScanOptions& o) {
+  ScanPlan plan;
+  if (!o.scene.empty()) {
+    try {
+      plan.cell = load_scene(o.scene);
+    } catch (const SceneError& e) {
+      throw UsageError(std::string("--scene: ") + e.what());
+    }
+    plan.scene_label = o.scene;
+  } else {
+    const std::string name = o.cell.empty() ? std::string(kDefaultCell) : o.cell;
+    auto cell = builtin_cell(name);
+    if (!cell) bad("--cell", name, "unknown cell; valid names: " + names_list() + " (see `vts cells`)");
+    plan.cell = std::move(*cell);
+    plan.scene_label = name;
+  }
+  Cell& cell = plan.cell;
+  ScannerDesc& scanner = cell.scanner;
+  ScanPath& path = cell.path;
+
+  if (!o.standoff.empty()) {
+    if (!o.scene.empty())
+      bad("--standoff", o.standoff,
+          "only applies to built-in cells (--cell); a scene file sets its own path "
+          "(path.standoff_mm or path.start)");
+    const double standoff = parse_positive("--standoff", o.standoff, "mm");
+    const ScanPath derived = default_path(cell.workpieces.front(), standoff);
+    path.start = derived.start;
+    path.direction = derived.direction;
+  }
+  if (!o.rate.empty()) scanner.rate_hz = parse_positive("--rate", o.rate, "Hz");
+  if (!o.points.empty())
+    scanner.points = static_cast<int>(parse_integer("--points", o.points, kMinPoints, kMaxPoints));
+  if (!o.direction.empty()) {
+    const Vec3 d = parse_vec3("--direction", o.direction, "");
+    if (d.norm() < 1e-12) bad("--direction", o.direction, "must not be the zero vector");
+    path.direction = d.normalized();
+  }
+  if (!o.start.empty()) path.start.translation() = parse_vec3("--start", o.start, "mm");
+  if (!o.step.empty() && !o.speed.empty())
+    throw UsageError("--step and --speed: give one of them, not both");
+  if (!o.step.empty()) path.step_mm = parse_positive("--step", o.step, "mm");
+  if (!o.speed.empty())
+    path.step_mm = parse_positive("--speed", o.speed, "mm/s") / scanner.rate_hz;
+  if (!std::isfinite(path.step_mm) || path.step_mm <= 0.0)
+    throw UsageError("--speed / --rate: the step speed / rate is not a usable distance");
+  if (!o.profiles.empty())
+    path.profiles = static_cast<int>(
+        parse_integer("--profiles", o.profiles, 1, std::numeric_limits<int>::max()));
+  if (!o.seed.empty()) plan.seed = parse_seed("--seed", o.seed);
+
+  if (const std::string why = validate(scanner); !why.empty())
+    throw UsageError("scanner: " + why);
+
+  const std::string source = o.source.empty() ? "raster" : o.source;
+  if (source != "raster" && source != "reference")
+    bad("--source", o.source, "expected 'raster' or 'reference'");
+  plan.main_is_reference = source == "reference";
+  plan.with_reference = o.reference;
+
+  fs::path out = o.out.empty() ? fs::path(file_stem_for(cell.name) + ".exr") : fs::path(o.out);
+  std::error_code ec;
+  out = fs::absolute(out, ec);
+  if (ec) bad("--out", o.out, "cannot make an absolute path: " + ec.message());
+  out = out.lexically_normal();
+  if (out.filename().empty()) bad("--out", o.out, "names a directory, expected a file name");
+  if (fs::is_directory(out, ec)) bad("--out", out.string(), "is a directory, expected a file name");
+  // Missing directories are created by the writer; an existing non-directory
+  // in the way is a bad value, not a runtime failure.
+  for (fs::path dir = out.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+    if (fs::exists(dir, ec)) {
+      if (!fs::is_directory(dir, ec))
+        bad("--out", o.out, "'" + dir.string() + "' exists and is not a directory");
+      break;
+    }
+    if (dir == dir.root_path()) break;
+  }
+  plan.out = out;
+  return plan;
+}
+
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_sigint(int) { g_interrupted = 1; }
+
+struct Interrupted : std::runtime_error {
+  Interrupted() : std::runtime_error("interrupted") {}
+};
+
+// Progress on stderr: every second on a terminal (one line, rewritten); in a
+// log only for long runs, every 5 s, one line each. Nothing in between.
+class Progress {
+ public:
+  explicit Progress(int total) : total_(total), tty_(isatty(STDERR_FILENO) == 1) {
+    start_ = last_ = std::chrono::steady_clock::now();
+  }
+  void update(int done) {
+    const auto now = std::chrono::steady_clock::now();
+    const double interval = tty_ ? 1.0 : 5.0;
+    if (std::chrono::duration<double>(now - last_).count() < interval) return;
+    last_ = now;
+    print(done, now);
+  }
+  // Completes a line already on the terminal with the final count.
+  void done(int done) {
+    if (!printed_ || !tty_) return;
+    print(done, std::chrono::steady_clock::now());
+    std::cerr << '\n';
+  }
+  double elapsed_s() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  void print(int done, std::chrono::steady_clock::time_point now) {
+    const double t = std::chrono::duration<double>(now - start_).count();
+    char line[160];
+    std::snprintf(line, sizeof line, "scan: %d/%d profiles (%.1f%%), %.0f profiles/s", done, total_,
+                  100.0 * done / total_, t > 0 ? done / t : 0.0);
+    if (tty_)
+      std::cerr << '\r' << line << "\x1b[K" << std::flush;
+    else
+      std::cerr << line << std::endl;
+    printed_ = true;
+  }
+
+  int total_;
+  bool tty_;
+  bool printed_ = false;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+struct Stats {
+  std::int64_t samples = 0, valid = 0;
+  double range_sum_mm = 0.0;
+  std::int64_t both_valid = 0, hit_miss = 0;
+  double max_diff_mm = 0.0;
+  int max_hit_miss_per_profile = 0;
+
+  void add(const Profile& p, const Profile* ref) {
+    samples += p.size();
+    int disagreements = 0;
+    for (int i = 0; i < p.size(); ++i) {
+      if (p.valid[i]) {
+        ++valid;
+        range_sum_mm += p.range_mm[i];
+      }
+      if (!ref) continue;
+      if (p.valid[i] && ref->valid[i]) {
+        ++both_valid;
+        max_diff_mm = std::max(max_diff_mm, double(std::abs(p.range_mm[i] - ref->range_mm[i])));
+      } else if (p.valid[i] != ref->valid[i]) {
+        ++disagreements;
+      }
+    }
+    hit_miss += disagreements;
+    max_hit_miss_per_profile = std::max(max_hit_miss_per_profile, disagreements);
+  }
+};
+
+int execute(const ScanPlan& plan) {
+  const Cell& cell = plan.cell;
+  const ScanPath& path = cell.path;
+  const int n = path.profiles;
+
+  // Sources first: a GL failure must not leave anything on disk.
+  const Mesh mesh = cell.mesh();
+  std::unique_ptr<ProfileSource> main_source, ref_source;
+  if (plan.main_is_reference) {
+    main_source = make_reference_source(cell.scanner, mesh);
+  } else {
+    try {
+      main_source = make_raster_source(cell.scanner, mesh);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string("cannot create the raster source (OSMesa): ") + e.what());
+    }
+  }
+  // With --source reference the main channels already hold the reference.
+  if (plan.with_reference && !plan.main_is_reference)
+    ref_source = make_reference_source(cell.scanner, mesh);
+
+  ProfileFileInfo info;
+  info.scanner = cell.scanner;
+  info.scene_name = plan.scene_label;
+  info.scene_text = scene_to_yaml(cell);
+  info.profiles = n;
+  info.has_reference = plan.with_reference;
+  info.seed = plan.seed.value_or(0);
+
+  g_interrupted = 0;
+  const auto old_handler = std::signal(SIGINT, on_sigint);
+  struct RestoreSignal {
+    decltype(old_handler) h;
+    ~RestoreSignal() { std::signal(SIGINT, h); }
+  } restore{old_handler};
+
+  ProfileExrWriter writer(plan.out, info);
+  constexpr int kBatch = 64;
+  std::vector<Pose> poses;
+  std::vector<Profile> main(kBatch), ref(ref_source ? kBatch : 0);
+  Stats stats;
+  Progress progress(n);
+  for (int first = 0; first < n; first += kBatch) {
+    if (g_interrupted) throw Interrupted();
+    const int count = std::min(kBatch, n - first);
+    poses.resize(count);
+    for (int k = 0; k < count; ++k) poses[k] = path.pose_at(first + k);
+    main_source->scan_batch(poses, std::span(main.data(), count));
+    if (ref_source) ref_source->scan_batch(poses, std::span(ref.data(), count));
+    for (int k = 0; k < count; ++k) {
+      const std::int64_t i = first + k;
+      for (Profile* p : {&main[k], ref_source ? &ref[k] : nullptr}) {
+        if (!p) continue;
+        p->world_from_sensor = poses[k];
+        p->time_s = static_cast<double>(i) / cell.scanner.rate_hz;
+        p->index = i;
+      }
+      const Profile* reference = !plan.with_reference ? nullptr : ref_source ? &ref[k] : &main[k];
+      writer.write(main[k], reference);
+      stats.add(main[k], ref_source ? &ref[k] : nullptr);
+    }
+    progress.update(first + count);
+  }
+  writer.finish();
+  progress.done(n);
+
+  const double t = progress.elapsed_s();
+  std::printf("wrote %d profiles x %d points to %s\n", n, cell.scanner.points, plan.out.c_str());
+  std::printf("%s: %.1f%% of %lld samples valid, mean range %.3f mm; %.2f s (%.0f profiles/s)\n",
+              plan.main_is_reference ? "reference" : "raster",
+              stats.samples ? 100.0 * stats.valid / stats.samples : 0.0,
+              static_cast<long long>(stats.samples),
+              stats.valid ? stats.range_sum_mm / stats.valid : 0.0, t, t > 0 ? n / t : 0.0);
+  if (ref_source)
+    std::printf(
+        "reference check: max |range - ref.range| = %.6f mm over %lld samples valid in both; "
+        "%lld hit/miss disagreements (at most %d in one profile)\n",
+        stats.max_diff_mm, static_cast<long long>(stats.both_valid),
+        static_cast<long long>(stats.hit_miss), stats.max_hit_miss_per_profile);
+  std::fflush(stdout);
+  return kExitOk;
+}
+
+}  // namespace
+
+CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
+  CLI::App* scan = app.add_subcommand(
+      "scan",
+      "Scan a cell along its path and write the profiles to an EXR file.\n"
+      "Profile i is taken at start + i * step * direction (orientation fixed), at time i / rate.");
+  scan->option_defaults()->always_capture_default(false);
+
+  auto* cell = scan->add_option("--cell", o.cell,
+                                "Built-in cell to scan (list: `vts cells`): fillet, corner, lap, butt, "
+                                "vgroove, plate, static-A .. static-F. Default: static-B")
+                   ->type_name("NAME");
+  auto* scene = scan->add_option("--scene", o.scene,
+                                 "Scene file to scan instead of a built-in cell (YAML, "
+                                 "docs/SCENE_FORMAT.md)")
+                    ->type_name("FILE");
+  cell->excludes(scene);
+  scene->excludes(cell);
+
+  scan->add_option("--start", o.start,
+                   "Sensor (laser origin) position at profile 0, mm, world frame; the path's "
+                   "sensor orientation is kept. Negative values: --start=-10,0,80")
+      ->type_name("X,Y,Z");
+  scan->add_option("--direction", o.direction,
+                   "Travel direction, world frame (normalised, must not be zero); the sensor "
+                   "orientation is kept")
+      ->type_name("X,Y,Z");
+  auto* step = scan->add_option("--step", o.step, "Distance between profiles along --direction, mm (> 0)")
+                   ->type_name("MM");
+  auto* speed = scan->add_option("--speed", o.speed,
+                                 "Travel speed, mm/s (> 0): step = speed / rate (rate from --rate, "
+                                 "else the cell's scanner)")
+                    ->type_name("MM_PER_S");
+  step->excludes(speed);
+  speed->excludes(step);
+  scan->add_option("--rate", o.rate,
+                   "Profile rate, Hz (> 0): sets scanner.rate_hz; profile i is stamped "
+                   "time = i / rate s")
+      ->type_name("HZ");
+  scan->add_option("--profiles", o.profiles, "Number of profiles (rows in the file), >= 1")
+      ->type_name("N");
+  scan->add_option("--standoff", o.standoff,
+                   "Built-in cells only: re-derive the path's start and direction at this "
+                   "distance, mm, from the laser origin to the seam root along the optical axis")
+      ->type_name("MM");
+  scan->add_option("--points", o.points, "Points (columns) per profile, 16..4096")->type_name("N");
+  scan->add_option("--seed", o.seed,
+                   "Seed of the sensor error model, unsigned 64-bit integer (scans are "
+                   "deterministic today)")
+      ->type_name("S");
+  scan->add_option("--out", o.out,
+                   "Output profile file (EXR, docs/EXR_FORMAT.md). Default: <cell name>.exr in "
+                   "the current directory")
+      ->type_name("FILE.exr");
+  scan->add_flag("--reference", o.reference,
+                 "Also scan with the Embree ray-cast reference and store it in the ref.* channels");
+  scan->add_option("--source", o.source,
+                   "Which source fills the main channels: raster (OSMesa emulator, default) or "
+                   "reference (Embree ray caster)")
+      ->type_name("raster|reference");
+  return scan;
+}
+
+int run_scan(const ScanOptions& opts) {
+  const ScanPlan plan = plan_scan(opts);  // throws UsageError; nothing created yet
+  try {
+    return execute(plan);
+  } catch (const Interrupted&) {
+    std::cerr << (isatty(STDERR_FILENO) == 1 ? "\n" : "") << "vts scan: interrupted; nothing was written to " << plan.out.string() << "\n";
+    return kExitInterrupted;
+  }
+}
+
+}  // namespace vts::cli

@@ -1,0 +1,481 @@
+#include "sensor/scene_file.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace vts {
+
+namespace {
+
+std::string format_error(const std::string& file, int line, const std::string& field,
+                         const std::string& message) {
+  std::string s = file + ":" + std::to_string(line) + ": ";
+  if (!field.empty()) s += field + ": ";
+  return s + message;
+}
+
+// Shortest text that parses back to exactly `v` (round-trip, like max_digits10
+// but without the noise digits).
+std::string num(double v) {
+  std::array<char, 64> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  return std::string(buf.data(), r.ptr);
+}
+
+std::string yaml_quoted(std::string_view s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char hex[8];
+          std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned>(c));
+          out += hex;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s;
+}
+
+// How a node looks, for "expected X, got Y" messages.
+std::string describe(const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Null: return "nothing";
+    case YAML::NodeType::Sequence: return "a list of " + std::to_string(n.size());
+    case YAML::NodeType::Map: return "a map";
+    case YAML::NodeType::Scalar: return "'" + n.Scalar() + "'";
+    default: return "an undefined node";
+  }
+}
+
+// A value together with where it sits in the file and its dotted field path.
+// Map values are reported at their key's line (a block list or map value
+// starts on the next line; a null value carries the mark of the next token);
+// list items at their own line, or the list's line if they are null.
+struct Field {
+  YAML::Node node;
+  std::string path;
+  int key_line = 0;     // 1-based line of the key; 0 for list items
+  int parent_line = 0;  // 1-based line of the enclosing list, for null items
+
+  int line() const {
+    if (key_line > 0) return key_line;
+    if (node.IsNull() || node.Mark().line < 0) return parent_line;
+    return node.Mark().line + 1;
+  }
+};
+
+class Parser {
+ public:
+  explicit Parser(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(int line, const std::string& field, const std::string& msg) const {
+    throw SceneError(file_, line, field, msg);
+  }
+  [[noreturn]] void fail(const Field& f, const std::string& msg) const { fail(f.line(), f.path, msg); }
+
+  // A map's entries, checked against the allowed keys (unknown and duplicate
+  // keys are errors), looked up by name.
+  class Map {
+   public:
+    Map(const Parser& p, const Field& f, std::vector<std::string> allowed)
+        : parser_(p), self_(f), allowed_(std::move(allowed)) {
+      if (!f.node.IsMap()) p.fail(f, "expected a map, got " + describe(f.node));
+      for (const auto& kv : f.node) {
+        const YAML::Node key = kv.first;
+        const YAML::Node value = kv.second;
+        const int key_line = key.Mark().line + 1;
+        if (!key.IsScalar()) p.fail(key_line, f.path, "keys must be plain names, got " + describe(key));
+        const std::string name = key.Scalar();
+        const std::string path = f.path.empty() ? name : f.path + "." + name;
+        bool known = false;
+        for (const auto& a : allowed_) known = known || a == name;
+        if (!known) p.fail(key_line, path, "unknown key (expected one of: " + join(allowed_) + ")");
+        for (const auto& e : entries_)
+          if (e.first == name)
+            p.fail(key_line, path, "duplicate key (first given on line " +
+                                       std::to_string(e.second.key_line) + ")");
+        entries_.emplace_back(name, Field{value, path, key_line});
+      }
+    }
+    std::optional<Field> get(std::string_view name) const {
+      for (const auto& e : entries_)
+        if (e.first == name) return e.second;
+      return std::nullopt;
+    }
+    Field require(std::string_view name) const {
+      if (auto f = get(name)) return *f;
+      const std::string path = self_.path.empty() ? std::string(name) : self_.path + "." + std::string(name);
+      parser_.fail(self_.line(), path, "missing (required)");
+    }
+    const Field& self() const { return self_; }
+
+   private:
+    const Parser& parser_;
+    Field self_;
+    std::vector<std::string> allowed_;
+    std::vector<std::pair<std::string, Field>> entries_;
+  };
+
+  std::string scalar_text(const Field& f, const char* expected) const {
+    // Quoted scalars ('5', "5") are strings in YAML: tag "!".
+    if (!f.node.IsScalar() || f.node.Tag() == "!")
+      fail(f, std::string("expected ") + expected + ", got " + describe(f.node));
+    return f.node.Scalar();
+  }
+
+  double number(const Field& f) const {
+    const std::string s = scalar_text(f, "a number");
+    // YAML's special floats, which strtod does not know.
+    static const std::pair<std::string_view, double> specials[] = {
+        {".nan", NAN}, {".NaN", NAN}, {".NAN", NAN},
+        {".inf", INFINITY}, {".Inf", INFINITY}, {".INF", INFINITY},
+        {"+.inf", INFINITY}, {"+.Inf", INFINITY}, {"+.INF", INFINITY},
+        {"-.inf", -INFINITY}, {"-.Inf", -INFINITY}, {"-.INF", -INFINITY}};
+    double v = 0.0;
+    bool parsed = false;
+    for (const auto& [text, value] : specials)
+      if (s == text) v = value, parsed = true;
+    if (!parsed && !s.empty() && !std::isspace(static_cast<unsigned char>(s.front()))) {
+      char* end = nullptr;
+      v = std::strtod(s.c_str(), &end);
+      parsed = end == s.c_str() + s.size();
+    }
+    if (!parsed) fail(f, "expected a number, got " + describe(f.node));
+    if (!std::isfinite(v)) fail(f, "must be a finite number, got '" + s + "'");
+    return v;
+  }
+
+  long long integer(const Field& f) const {
+    std::string s = scalar_text(f, "an integer");
+    if (!s.empty() && s.front() == '+') s.erase(0, 1);
+    long long v = 0;
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (r.ec == std::errc::result_out_of_range) fail(f, "integer out of range: '" + s + "'");
+    if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+      fail(f, "expected an integer, got " + describe(f.node));
+    return v;
+  }
+
+  std::string string(const Field& f) const {
+    if (!f.node.IsScalar()) fail(f, "expected a string, got " + describe(f.node));
+    return f.node.Scalar();
+  }
+
+  Vec3 vec3(const Field& f) const {
+    if (!f.node.IsSequence() || f.node.size() != 3)
+      fail(f, "expected a list of 3 numbers [x, y, z], got " + describe(f.node));
+    Vec3 v;
+    for (std::size_t i = 0; i < 3; ++i)
+      v[static_cast<int>(i)] =
+          number(Field{f.node[i], f.path + "[" + std::to_string(i) + "]", 0, f.line()});
+    return v;
+  }
+
+  Pose pose(const Field& f) const {
+    const Map m(*this, f, {"position_mm", "rpy_deg"});
+    Vec3 p = Vec3::Zero(), rpy = Vec3::Zero();
+    if (auto x = m.get("position_mm")) p = vec3(*x);
+    if (auto x = m.get("rpy_deg")) rpy = vec3(*x);
+    return pose_from_xyz_rpy(p, rpy);
+  }
+
+  // Turns a validate() message ("gap_mm = -1: must be >= 0") into an error at
+  // the named field's node, or at the enclosing map if the field was not given.
+  [[noreturn]] void fail_validation(const Map& m, const std::string& message) const {
+    const std::string name = message.substr(0, message.find_first_of(" =:"));
+    if (auto f = m.get(name)) fail(*f, message);
+    const std::string& base = m.self().path;
+    fail(m.self().line(), base.empty() ? name : base + "." + name, message);
+  }
+
+  ScannerDesc scanner(const Field& f) const {
+    const Map m(*this, f,
+                {"name", "fan_deg", "points", "min_range_mm", "max_range_mm", "max_hit_mm",
+                 "rate_hz", "tool_from_laser"});
+    ScannerDesc d;
+    if (auto x = m.get("name")) d.name = string(*x);
+    if (auto x = m.get("fan_deg")) d.fan_deg = number(*x);
+    if (auto x = m.get("points")) {
+      const long long n = integer(*x);
+      if (n < kMinPoints || n > kMaxPoints)
+        fail(*x, "points = " + std::to_string(n) + ": must be between 16 and 4096");
+      d.points = static_cast<int>(n);
+    }
+    if (auto x = m.get("min_range_mm")) d.min_range_mm = number(*x);
+    if (auto x = m.get("max_range_mm")) d.max_range_mm = number(*x);
+    if (auto x = m.get("max_hit_mm")) d.max_hit_mm = number(*x);
+    if (auto x = m.get("rate_hz")) d.rate_hz = number(*x);
+    if (auto x = m.get("tool_from_laser")) d.tool_from_laser = pose(*x);
+    if (const std::string err = validate(d); !err.empty()) fail_validation(m, err);
+    return d;
+  }
+
+  Workpiece workpiece(const Field& f) const {
+    static const char* const kParamNames[] = {"length_mm",   "width_mm",    "thickness_mm",
+                                              "height_mm",   "gap_mm",      "angle_deg",
+                                              "mismatch_mm", "root_face_mm", "segment_mm"};
+    std::vector<std::string> allowed = {"joint", "pose"};
+    for (const char* n : kParamNames) allowed.emplace_back(n);
+    const Map m(*this, f, allowed);
+
+    const Field jf = m.require("joint");
+    const std::string jname = string(jf);
+    const auto type = joint_type_from_string(jname);
+    if (!type)
+      fail(jf, "unknown joint '" + jname +
+                   "' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
+
+    JointParams p = default_params(*type);
+    double* const slots[] = {&p.length_mm,   &p.width_mm,    &p.thickness_mm,
+                             &p.height_mm,   &p.gap_mm,      &p.angle_deg,
+                             &p.mismatch_mm, &p.root_face_mm, &p.segment_mm};
+    for (std::size_t i = 0; i < std::size(kParamNames); ++i)
+      if (auto x = m.get(kParamNames[i])) *slots[i] = number(*x);
+    if (const std::string err = validate(*type, p); !err.empty()) fail_validation(m, err);
+
+    Pose world_from_joint = Pose::Identity();
+    if (auto x = m.get("pose")) world_from_joint = pose(*x);
+    return build_workpiece(*type, p, world_from_joint);
+  }
+
+  ScanPath path(const std::optional<Field>& f, const Workpiece& first, const ScannerDesc& scanner) const {
+    constexpr double kDefaultStandoffMm = 100.0;
+    if (!f) return default_path(first, kDefaultStandoffMm);
+    const Map m(*this, *f, {"start", "standoff_mm", "direction", "step_mm", "speed_mm_s", "profiles"});
+
+    double standoff_mm = kDefaultStandoffMm;
+    if (auto x = m.get("standoff_mm")) {
+      if (auto s = m.get("start"))
+        fail(*x, "give either start or standoff_mm, not both (start is on line " +
+                     std::to_string(s->key_line) + ")");
+      standoff_mm = number(*x);
+      if (standoff_mm <= 0.0) fail(*x, "standoff_mm = " + num(standoff_mm) + ": must be > 0");
+    }
+    ScanPath path = default_path(first, standoff_mm);
+
+    if (auto x = m.get("direction")) {
+      const Vec3 d = vec3(*x);
+      if (d.norm() < 1e-12) fail(*x, "direction must not be zero");
+      path.direction = d.normalized();
+    }
+
+    if (auto x = m.get("step_mm")) {
+      if (auto s = m.get("speed_mm_s"))
+        fail(*s, "give either step_mm or speed_mm_s, not both (step_mm is on line " +
+                     std::to_string(x->key_line) + ")");
+      path.step_mm = number(*x);
+      if (path.step_mm <= 0.0) fail(*x, "step_mm = " + num(path.step_mm) + ": must be > 0");
+    } else if (auto s = m.get("speed_mm_s")) {
+      const double speed = number(*s);
+      if (speed <= 0.0) fail(*s, "speed_mm_s = " + num(speed) + ": must be > 0");
+      path.step_mm = speed / scanner.rate_hz;
+    }
+
+    if (auto x = m.get("profiles")) {
+      const long long n = integer(*x);
+      if (n < 1 || n > std::numeric_limits<int>::max())
+        fail(*x, "profiles = " + std::to_string(n) + ": must be between 1 and " +
+                     std::to_string(std::numeric_limits<int>::max()));
+      path.profiles = static_cast<int>(n);
+    }
+
+    if (auto x = m.get("start")) path.start = start_pose(*x, path.direction);
+    return path;
+  }
+
+  Pose start_pose(const Field& f, const Vec3& path_direction) const {
+    const Map m(*this, f, {"position_mm", "rpy_deg", "look_at_mm", "travel"});
+    const Vec3 position = vec3(m.require("position_mm"));
+    const auto rpy = m.get("rpy_deg");
+    const auto look = m.get("look_at_mm");
+    const auto travel = m.get("travel");
+    if (rpy && look)
+      fail(*look, "give either rpy_deg or look_at_mm, not both (rpy_deg is on line " +
+                      std::to_string(rpy->key_line) + ")");
+    if (travel && !look) fail(*travel, "travel is only used with look_at_mm");
+    if (rpy) return pose_from_xyz_rpy(position, vec3(*rpy));
+    if (!look) fail(m.self().line(), m.self().path, "needs rpy_deg or look_at_mm");
+    const Vec3 target = vec3(*look);
+    Vec3 travel_dir = path_direction;
+    if (travel) {
+      travel_dir = vec3(*travel);
+      if (travel_dir.norm() < 1e-12) fail(*travel, "travel must not be zero");
+    }
+    Pose pose;
+    if ((target - position).norm() < 1e-9) fail(*look, "look_at_mm must differ from position_mm");
+    if (!pose_look_at(position, target, travel_dir, pose))
+      fail(travel ? *travel : *look,
+           "travel direction is parallel to the viewing direction (position_mm -> look_at_mm); "
+           "give a travel that is not");
+    return pose;
+  }
+
+  Cell cell(const YAML::Node& root, const std::string& default_name) const {
+    if (root.IsNull()) fail(1, "", "empty scene (expected a map with workpieces)");
+    const Map m(*this, Field{root, "", 1}, {"name", "scanner", "workpieces", "path"});
+    Cell cell;
+    cell.name = default_name;
+    if (auto x = m.get("name")) {
+      cell.name = string(*x);
+      if (cell.name.empty()) fail(*x, "name must not be empty");
+    }
+    if (auto x = m.get("scanner")) cell.scanner = scanner(*x);
+
+    const Field wf = m.require("workpieces");
+    if (!wf.node.IsSequence()) fail(wf, "expected a list of workpieces, got " + describe(wf.node));
+    if (wf.node.size() == 0) fail(wf, "needs at least one workpiece");
+    for (std::size_t i = 0; i < wf.node.size(); ++i) {
+      const YAML::Node n = wf.node[i];
+      cell.workpieces.push_back(
+          workpiece(Field{n, "workpieces[" + std::to_string(i) + "]", 0, wf.line()}));
+    }
+    cell.path = path(m.get("path"), cell.workpieces.front(), cell.scanner);
+    return cell;
+  }
+
+ private:
+  std::string file_;
+};
+
+void write_vec3(std::ostringstream& out, const Vec3& v) {
+  out << "[" << num(v.x()) << ", " << num(v.y()) << ", " << num(v.z()) << "]";
+}
+
+// Fixed-axis roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll)) in degrees.
+// Unlike an asin of r20, atan2 of both the sine and cosine of the pitch keeps
+// full precision near pitch = +-90 degrees, so the written angles rebuild the
+// rotation to ~1e-15 everywhere.
+Vec3 precise_rpy_deg(const Eigen::Matrix3d& r) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  const double pitch = std::atan2(-r(2, 0), cos_pitch);
+  if (cos_pitch < 1e-12) {  // gimbal lock: roll and yaw share one axis; put it all in yaw
+    return Vec3(0.0, pitch, std::atan2(-r(0, 1), r(1, 1))) / kDeg;
+  }
+  return Vec3(std::atan2(r(2, 1), r(2, 2)), pitch, std::atan2(r(1, 0), r(0, 0))) / kDeg;
+}
+
+void write_pose(std::ostringstream& out, const std::string& indent, const Pose& pose) {
+  out << indent << "position_mm: ";
+  write_vec3(out, pose.translation());
+  out << "\n" << indent << "rpy_deg: ";
+  write_vec3(out, precise_rpy_deg(pose.linear()));
+  out << "\n";
+}
+
+}  // namespace
+
+SceneError::SceneError(const std::string& file_, int line_, const std::string& field_,
+                       const std::string& message)
+    : std::runtime_error(format_error(file_, line_, field_, message)),
+      file(file_),
+      field(field_),
+      line(line_) {}
+
+Cell parse_scene(const std::string& yaml_text, const std::string& file_name) {
+  const Parser parser(file_name);
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw SceneError(file_name, e.mark.line + 1, "", "YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw SceneError(file_name, e.mark.line + 1, "", std::string("YAML error: ") + e.what());
+  }
+  try {
+    return parser.cell(root, std::filesystem::path(file_name).stem().string());
+  } catch (const SceneError&) {
+    throw;
+  } catch (const YAML::Exception& e) {
+    // Should not happen (every node is type-checked first); keep the boundary clean.
+    throw SceneError(file_name, e.mark.line + 1, "", std::string("YAML error: ") + e.what());
+  }
+}
+
+Cell load_scene(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw SceneError(file, 0, "", "scene file not found");
+  if (std::filesystem::is_directory(path, ec))
+    throw SceneError(file, 0, "", "is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(file, 0, "", "cannot open scene file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(file, 0, "", "read error");
+  return parse_scene(text.str(), file);
+}
+
+std::string scene_to_yaml(const Cell& cell) {
+  std::ostringstream out;
+  out << "# vts scene (docs/SCENE_FORMAT.md)\n";
+  out << "name: " << yaml_quoted(cell.name) << "\n";
+
+  const ScannerDesc& s = cell.scanner;
+  out << "scanner:\n";
+  out << "  name: " << yaml_quoted(s.name) << "\n";
+  out << "  fan_deg: " << num(s.fan_deg) << "\n";
+  out << "  points: " << s.points << "\n";
+  out << "  min_range_mm: " << num(s.min_range_mm) << "\n";
+  out << "  max_range_mm: " << num(s.max_range_mm) << "\n";
+  out << "  max_hit_mm: " << num(s.max_hit_mm) << "\n";
+  out << "  rate_hz: " << num(s.rate_hz) << "\n";
+  out << "  tool_from_laser:\n";
+  write_pose(out, "    ", s.tool_from_laser);
+
+  out << "workpieces:\n";
+  for (const Workpiece& w : cell.workpieces) {
+    const JointParams& p = w.params;
+    out << "  - joint: " << to_string(w.type) << "\n";
+    out << "    length_mm: " << num(p.length_mm) << "\n";
+    out << "    width_mm: " << num(p.width_mm) << "\n";
+    out << "    thickness_mm: " << num(p.thickness_mm) << "\n";
+    out << "    height_mm: " << num(p.height_mm) << "\n";
+    out << "    gap_mm: " << num(p.gap_mm) << "\n";
+    out << "    angle_deg: " << num(p.angle_deg) << "\n";
+    out << "    mismatch_mm: " << num(p.mismatch_mm) << "\n";
+    out << "    root_face_mm: " << num(p.root_face_mm) << "\n";
+    out << "    segment_mm: " << num(p.segment_mm) << "\n";
+    out << "    pose:\n";
+    write_pose(out, "      ", w.world_from_joint);
+  }
+
+  const ScanPath& path = cell.path;
+  out << "path:\n";
+  out << "  start:\n";
+  write_pose(out, "    ", path.start);
+  out << "  direction: ";
+  write_vec3(out, path.direction);
+  out << "\n  step_mm: " << num(path.step_mm) << "\n";
+  out << "  profiles: " << path.profiles << "\n";
+  return out.str();
+}
+
+}  // namespace vts

@@ -1,0 +1,353 @@
+// Runs bin/vts in a fresh temporary directory and checks exit codes, messages
+// and the files it leaves behind.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sensor/cell.h"
+#include "sensor/profile_exr.h"
+#include "sensor/scene_file.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kVts = fs::path(VTS_BIN_DIR) / "vts";
+const fs::path kExamples = fs::path(VTS_SOURCE_DIR) / "examples";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// A temporary working directory, removed with everything in it.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path = fs::temp_directory_path() /
+           ("vts_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  // Files in the directory other than the captured stdout/stderr.
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path)) {
+      const std::string n = e.path().filename().string();
+      if (n != "stdout.txt" && n != "stderr.txt") names.push_back(n);
+    }
+    return names;
+  }
+};
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs `vts ARGS` in dir (args are passed through the shell as written).
+Result run_vts(const TempDir& dir, const std::string& args) {
+  const std::string cmd = "cd " + shell_quote(dir.path.string()) + " && " +
+                          shell_quote(kVts.string()) + " " + args +
+                          " > stdout.txt 2> stderr.txt < /dev/null";
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir.path / "stdout.txt");
+  r.err = slurp(dir.path / "stderr.txt");
+  return r;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Raster and reference channels of one recording: ranges agree to 1 um where
+// both are valid; hit/miss differs in at most 2 columns of any profile (only
+// a ray grazing a mesh edge can do that).
+void check_against_reference(const vts::ProfileRecording& rec) {
+  REQUIRE(rec.info.has_reference);
+  REQUIRE(rec.reference.size() == rec.profiles.size());
+  int total_valid = 0;
+  for (std::size_t i = 0; i < rec.profiles.size(); ++i) {
+    const vts::Profile& p = rec.profiles[i];
+    const vts::Profile& r = rec.reference[i];
+    REQUIRE(p.size() == r.size());
+    int disagreements = 0;
+    double max_diff = 0.0;
+    for (int c = 0; c < p.size(); ++c) {
+      if (p.valid[c] && r.valid[c])
+        max_diff = std::max(max_diff, double(std::abs(p.range_mm[c] - r.range_mm[c])));
+      else if (p.valid[c] != r.valid[c])
+        ++disagreements;
+    }
+    INFO("profile " << i);
+    CHECK(max_diff <= 0.001);
+    CHECK(disagreements <= 2);
+    total_valid += p.valid_count();
+  }
+  CHECK(total_valid > 0);
+}
+
+}  // namespace
+
+TEST_CASE("vts: no subcommand prints help and exits 0", "[cli]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "");
+  CHECK(r.code == 0);
+  CHECK(contains(r.out, "scan"));
+  CHECK(contains(r.out, "cells"));
+  CHECK(contains(r.out, "--version"));
+}
+
+TEST_CASE("vts: --version", "[cli]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "--version");
+  CHECK(r.code == 0);
+  CHECK(contains(r.out, "vts 0."));
+}
+
+TEST_CASE("vts cells: lists every built-in cell with a description", "[cli]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "cells");
+  REQUIRE(r.code == 0);
+  std::istringstream lines(r.out);
+  std::vector<std::string> got;
+  for (std::string line; std::getline(lines, line);) got.push_back(line);
+  const auto names = vts::builtin_cell_names();
+  REQUIRE(got.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(got[i]);
+    CHECK(got[i].rfind(names[i] + " ", 0) == 0);
+    CHECK(got[i].size() > names[i].size() + 10);  // a description follows
+  }
+}
+
+TEST_CASE("vts scan --help: every option with units", "[cli]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "scan --help");
+  REQUIRE(r.code == 0);
+  for (const char* opt : {"--cell", "--scene", "--start", "--direction", "--step", "--speed", "--rate",
+                          "--profiles", "--standoff", "--points", "--seed", "--out", "--reference",
+                          "--source"})
+    CHECK(contains(r.out, opt));
+  for (const char* unit : {"mm", "mm/s", "Hz", "16..4096"}) CHECK(contains(r.out, unit));
+}
+
+TEST_CASE("vts scan: no arguments writes static-B.exr and says where", "[cli][gl]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "scan");
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  const fs::path file = fs::canonical(dir.path) / "static-B.exr";
+  CHECK(fs::exists(file));
+  CHECK(contains(r.out, "wrote 100 profiles x 512 points to " + file.string() + "\n"));
+  CHECK(contains(r.out, "valid"));
+  CHECK(contains(r.out, "mean range"));
+  CHECK(r.err.empty());  // short runs print no progress
+  const vts::ProfileRecording rec = vts::read_profile_exr(file);
+  CHECK(rec.info.scene_name == "static-B");
+  CHECK(rec.profiles.size() == 100);
+  CHECK_FALSE(rec.info.has_reference);
+  // The header's scene text rebuilds the cell that was scanned.
+  const vts::Cell stored = vts::parse_scene(rec.info.scene_text, "header");
+  const vts::Cell builtin = *vts::builtin_cell("static-B");
+  CHECK(stored.name == "static-B");
+  CHECK((stored.path.start.matrix() - builtin.path.start.matrix()).cwiseAbs().maxCoeff() < 1e-9);
+  CHECK(stored.workpieces.size() == builtin.workpieces.size());
+}
+
+TEST_CASE("vts scan: every built-in cell - raster against the Embree reference", "[cli][gl]") {
+  for (const std::string& name : vts::builtin_cell_names()) {
+    DYNAMIC_SECTION(name) {
+      TempDir dir;
+      const Result r = run_vts(dir, "scan --cell " + name + " --reference --profiles 5 --out x.exr");
+      INFO(r.out << r.err);
+      REQUIRE(r.code == 0);
+      const vts::ProfileRecording rec = vts::read_profile_exr(dir.path / "x.exr");
+      CHECK(rec.info.scene_name == name);
+      REQUIRE(rec.profiles.size() == 5);
+      check_against_reference(rec);
+      // Rows follow the cell's path: pose i = start + i * step * direction, time i / rate.
+      const vts::Cell cell = *vts::builtin_cell(name);
+      for (int i = 0; i < 5; ++i) {
+        const vts::Vec3 expected = cell.path.start.translation() +
+                                   i * cell.path.step_mm * cell.path.direction;
+        CHECK((rec.profiles[i].world_from_sensor.translation() - expected).norm() < 1e-9);
+        CHECK(rec.profiles[i].time_s == Approx(i / cell.scanner.rate_hz));
+        CHECK(rec.profiles[i].index == i);
+      }
+    }
+  }
+}
+
+TEST_CASE("vts scan: the example scenes run", "[cli][gl]") {
+  for (const char* example : {"fillet_gap.yaml", "vgroove.yaml", "lap_tilted.yaml"}) {
+    DYNAMIC_SECTION(example) {
+      TempDir dir;
+      const fs::path scene = kExamples / example;
+      const Result r = run_vts(dir, "scan --scene " + shell_quote(scene.string()) +
+                                        " --reference --profiles 5 --out e.exr");
+      INFO(r.out << r.err);
+      REQUIRE(r.code == 0);
+      const vts::ProfileRecording rec = vts::read_profile_exr(dir.path / "e.exr");
+      CHECK(rec.info.scene_name == scene.string());
+      const vts::Cell original = vts::load_scene(scene);
+      CHECK(rec.info.scanner.points == original.scanner.points);
+      const vts::Cell stored = vts::parse_scene(rec.info.scene_text, "header");
+      CHECK(stored.name == original.name);
+      CHECK(stored.path.profiles == 5);  // after the override
+      REQUIRE(stored.workpieces.size() == original.workpieces.size());
+      CHECK(stored.workpieces[0].params.gap_mm == original.workpieces[0].params.gap_mm);
+      check_against_reference(rec);
+    }
+  }
+  SECTION("default output name is the scene's name") {
+    TempDir dir;
+    const Result r =
+        run_vts(dir, "scan --scene " + shell_quote((kExamples / "fillet_gap.yaml").string()) +
+                         " --profiles 2");
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    CHECK(fs::exists(dir.path / "fillet-gap.exr"));
+  }
+}
+
+TEST_CASE("vts scan: path and scanner and seed overrides", "[cli]") {
+  // The Embree source alone needs no GL context.
+  TempDir dir;
+  const Result r = run_vts(dir,
+                           "scan --cell plate --source reference --start=10,-5,90 --direction 0,2,0 "
+                           "--step 0.25 --profiles 7 --points 64 --rate 100 --seed 18446744073709551615 "
+                           "--out sub/o.exr");
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  const vts::ProfileRecording rec = vts::read_profile_exr(dir.path / "sub" / "o.exr");
+  REQUIRE(rec.profiles.size() == 7);
+  CHECK(rec.info.scanner.points == 64);
+  CHECK(rec.info.scanner.rate_hz == 100.0);
+  const vts::Cell plate = *vts::builtin_cell("plate");
+  for (int i = 0; i < 7; ++i) {
+    const vts::Pose& pose = rec.profiles[i].world_from_sensor;
+    CHECK((pose.translation() - vts::Vec3(10, -5 + 0.25 * i, 90)).norm() < 1e-9);
+    // Orientation kept from the cell's path.
+    CHECK((pose.linear() - plate.path.start.linear()).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK(rec.profiles[i].time_s == Approx(i / 100.0));
+    // Straight down onto the plate top (z = 0) from 90 mm: the middle column sees ~90 mm.
+    CHECK(rec.profiles[i].valid[32]);
+    CHECK(rec.profiles[i].z_mm[32] == Approx(90.0).margin(1e-3));
+  }
+
+  SECTION("--speed with --rate sets the step") {
+    TempDir d2;
+    const Result s = run_vts(d2, "scan --cell plate --source reference --speed 50 --rate 25 "
+                                 "--profiles 3 --out s.exr");
+    INFO(s.out << s.err);
+    REQUIRE(s.code == 0);
+    const vts::ProfileRecording srec = vts::read_profile_exr(d2.path / "s.exr");
+    const double step = (srec.profiles[1].world_from_sensor.translation() -
+                         srec.profiles[0].world_from_sensor.translation()).norm();
+    CHECK(step == Approx(2.0).margin(1e-9));
+    CHECK(srec.profiles[2].time_s == Approx(2 / 25.0));
+  }
+  SECTION("--standoff re-derives the path of a built-in cell") {
+    TempDir d3;
+    const Result s = run_vts(d3, "scan --cell plate --source reference --standoff 150 "
+                                 "--profiles 1 --points 64 --out s.exr");
+    INFO(s.out << s.err);
+    REQUIRE(s.code == 0);
+    const vts::ProfileRecording srec = vts::read_profile_exr(d3.path / "s.exr");
+    CHECK(srec.profiles[0].z_mm[32] == Approx(150.0).margin(1e-3));
+  }
+}
+
+TEST_CASE("vts scan: bad inputs exit 2 - name the option and value - create nothing", "[cli]") {
+  struct Case {
+    std::string args;
+    std::vector<std::string> expected;  // in stderr
+  };
+  const std::string bad_scene =
+      "workpieces:\n"
+      "  - joint: fillet\n"
+      "    gap_mm: abc\n";
+  const std::string broken_scene = "workpieces:\n  - joint: [fillet\n";
+  const std::vector<Case> cases = {
+      {"--cell nosuch", {"--cell", "'nosuch'", "unknown cell", "static-B", "vgroove"}},
+      {"--points 8", {"--points", "'8'", "16 to 4096"}},
+      {"--points abc", {"--points", "'abc'"}},
+      {"--points 5000", {"--points", "'5000'"}},
+      {"--step -1", {"--step", "'-1'", "> 0"}},
+      {"--step 0", {"--step", "'0'"}},
+      {"--step nan", {"--step", "'nan'", "finite"}},
+      {"--speed=-3", {"--speed", "'-3'"}},
+      {"--rate 0", {"--rate", "'0'"}},
+      {"--profiles 0", {"--profiles", "'0'"}},
+      {"--profiles 1.5", {"--profiles", "'1.5'"}},
+      {"--direction 0,0,0", {"--direction", "'0,0,0'", "zero"}},
+      {"--direction 1,2", {"--direction", "'1,2'", "X,Y,Z"}},
+      {"--start 1,x,3", {"--start", "'1,x,3'"}},
+      {"--start 1,inf,3", {"--start", "finite"}},
+      {"--seed=-1", {"--seed", "'-1'"}},
+      {"--source gpu", {"--source", "'gpu'"}},
+      {"--scene missing.yaml", {"missing.yaml", "not found"}},
+      {"--scene bad.yaml", {"bad.yaml:3: workpieces[0].gap_mm", "'abc'"}},
+      {"--scene broken.yaml", {"broken.yaml:", "YAML syntax error"}},
+      {"--scene bad.yaml --cell fillet", {"--cell", "--scene"}},
+      {"--step 1 --speed 2", {"--step", "--speed"}},
+      {"--scene " + shell_quote((kExamples / "vgroove.yaml").string()) + " --standoff 50",
+       {"--standoff", "built-in"}},
+      {"--out .", {"--out", "directory"}},
+      {"--out bad.yaml/x.exr", {"--out", "'bad.yaml/x.exr'", "not a directory"}},
+      {"--bogus 1", {"--bogus"}},
+  };
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.args) {
+      TempDir dir;
+      std::ofstream(dir.path / "bad.yaml") << bad_scene;
+      std::ofstream(dir.path / "broken.yaml") << broken_scene;
+      const std::string args = "scan " + c.args + (contains(c.args, "--out") ? "" : " --out x.exr");
+      const Result r = run_vts(dir, args);
+      INFO("vts " << args << "\nstdout: " << r.out << "\nstderr: " << r.err);
+      CHECK(r.code == 2);
+      for (const auto& e : c.expected) CHECK(contains(r.err, e));
+      CHECK(r.out.empty());
+      std::vector<std::string> files = dir.files();
+      std::erase(files, "bad.yaml");
+      std::erase(files, "broken.yaml");
+      CHECK(files.empty());  // no x.exr, no temporary file
+    }
+  }
+}
+
+TEST_CASE("vts scan: a failing EXR write exits 1 and leaves no file", "[cli]") {
+  TempDir dir;
+  // /proc accepts no new files, even for root.
+  const Result r = run_vts(dir, "scan --cell plate --source reference --profiles 2 --out /proc/vts_x.exr");
+  INFO(r.out << r.err);
+  CHECK(r.code == 1);
+  CHECK(contains(r.err, "/proc/vts_x.exr"));
+  CHECK_FALSE(fs::exists("/proc/vts_x.exr"));
+}
