@@ -25,7 +25,7 @@ bool on_outward_face(const Mesh& m, const std::array<std::uint32_t, 3>& t,
 }
 }  // namespace
 
-TEST_CASE("every joint's mesh triangles lie on the plates' analytic faces, wound outward", "[geometry]") {
+TEST_CASE("every joint's mesh triangles lie on the plates' analytic faces and wind outward", "[geometry]") {
   for (JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt,
                          JointType::VGroove, JointType::Plate}) {
     const Pose pose = pose_from_xyz_rpy({10, -20, 5}, {3, -7, 25});
@@ -92,7 +92,7 @@ TEST_CASE("invalid joint parameters are named with their value", "[geometry]") {
     CHECK(validate(t, default_params(t)).empty());
 }
 
-TEST_CASE("static setups: sensor at the Table 2 distance, optical axis at 45 degrees to both plates",
+TEST_CASE("static setups: sensor at the Table 2 distance with the optical axis at 45 degrees to both plates",
           "[geometry][cells]") {
   for (const auto& s : kStaticSetups) {
     const auto cell = builtin_cell(std::string("static-") + s.label);
@@ -127,7 +127,7 @@ TEST_CASE("built-in cells all exist and the path steps along the seam", "[cells]
   CHECK_FALSE(builtin_cell("nope"));
 }
 
-TEST_CASE("pose helpers: rpy round trip, look-at frame", "[pose]") {
+TEST_CASE("pose helpers: rpy round trip and look-at frame", "[pose]") {
   const Pose p = pose_from_xyz_rpy({1, 2, 3}, {10, -20, 30});
   CHECK((rpy_deg_of(p) - Vec3(10, -20, 30)).norm() < 1e-9);
   const Pose q = pose_from_quat(p.translation(), rotation_quat(p));

@@ -1,0 +1,204 @@
+// Raster emulator against the Embree reference and against analytic geometry.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <Eigen/Eigenvalues>
+
+#include "render/raster_source.h"
+#include "sensor/cell.h"
+#include "sensor/reference_source.h"
+
+using namespace vts;
+
+namespace {
+
+constexpr double kRangeTolMm = 0.001;
+constexpr double kJumpMm = 1.0;  // a range step this large between neighbours is a depth discontinuity
+
+// Pair (k, k+1) of the profile is a depth discontinuity: the hit state changes,
+// or the range jumps.
+std::vector<bool> discontinuities(const Profile& p) {
+  std::vector<bool> d(p.size() > 0 ? p.size() - 1 : 0, false);
+  for (int k = 0; k + 1 < p.size(); ++k)
+    d[k] = p.valid[k] != p.valid[k + 1] ||
+           (p.valid[k] && std::abs(p.range_mm[k] - p.range_mm[k + 1]) > kJumpMm);
+  return d;
+}
+
+struct Agreement {
+  int both_valid = 0;
+  double max_diff_mm = 0.0;
+  int disagreements = 0;     // hit/miss (or different surface) columns
+  int unexplained = 0;       // disagreements not next to a free discontinuity
+};
+
+// Every disagreeing column must sit next to a depth discontinuity of the
+// reference, and each discontinuity explains at most one column.
+Agreement compare(const Profile& raster, const Profile& ref) {
+  Agreement a;
+  auto disc = discontinuities(ref);
+  const auto disc_raster = discontinuities(raster);
+  for (std::size_t k = 0; k < disc.size(); ++k) disc[k] = disc[k] || disc_raster[k];
+  std::vector<bool> used(disc.size(), false);
+  for (int i = 0; i < ref.size(); ++i) {
+    bool agree = raster.valid[i] == ref.valid[i];
+    if (agree && ref.valid[i]) {
+      const double d = std::abs(double(raster.range_mm[i]) - ref.range_mm[i]);
+      if (d <= kRangeTolMm) {
+        ++a.both_valid;
+        a.max_diff_mm = std::max(a.max_diff_mm, d);
+      } else {
+        agree = false;  // a different surface: allowed only at a discontinuity
+      }
+    }
+    if (agree) continue;
+    ++a.disagreements;
+    bool explained = false;
+    for (int k : {i - 1, i}) {
+      if (k >= 0 && k < static_cast<int>(disc.size()) && disc[k] && !used[k]) {
+        used[k] = explained = true;
+        break;
+      }
+    }
+    if (!explained) ++a.unexplained;
+  }
+  return a;
+}
+
+std::unique_ptr<ProfileSource> raster_for(const Cell& c) { return make_raster_source(c.scanner, c.mesh()); }
+std::unique_ptr<ProfileSource> reference_for(const Cell& c) { return make_reference_source(c.scanner, c.mesh()); }
+
+void check_poses(const Cell& cell, const std::vector<Pose>& poses, int* total_columns = nullptr) {
+  auto raster = raster_for(cell);
+  auto reference = reference_for(cell);
+  Profile a, b;
+  double max_diff = 0.0;
+  int disagreements = 0, valid = 0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    raster->scan(poses[k], a);
+    reference->scan(poses[k], b);
+    const Agreement g = compare(a, b);
+    INFO(cell.name << " pose " << k << ": " << g.both_valid << " columns agree, max diff " << g.max_diff_mm
+                   << " mm, " << g.disagreements << " disagreements");
+    CHECK(g.max_diff_mm <= kRangeTolMm);
+    CHECK(g.unexplained == 0);
+    if (total_columns) *total_columns += g.both_valid;
+    max_diff = std::max(max_diff, g.max_diff_mm);
+    disagreements += g.disagreements;
+    valid += g.both_valid;
+  }
+  WARN(cell.name << ": " << poses.size() << " poses, " << valid << " columns agree (max |diff| " << max_diff
+                 << " mm), " << disagreements << " disagreeing columns, all next to a discontinuity");
+}
+
+}  // namespace
+
+TEST_CASE("raster and reference agree on every built-in cell along its path", "[gl][crosscheck]") {
+  for (const auto& name : builtin_cell_names()) {
+    const Cell cell = *builtin_cell(name);
+    std::vector<Pose> poses;
+    for (int i = 0; i < 20; ++i) poses.push_back(cell.path.pose_at(i * 5));
+    int agreeing = 0;
+    check_poses(cell, poses, &agreeing);
+    INFO(name);
+    CHECK(agreeing > 20 * cell.scanner.points / 2);  // the cells are mostly in view
+  }
+}
+
+TEST_CASE("raster and reference agree at 240 seeded random sensor poses", "[gl][crosscheck]") {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int poses_checked = 0;
+  for (const char* name : {"fillet", "corner", "lap", "butt", "vgroove", "plate"}) {
+    Cell cell = *builtin_cell(name);
+    const Workpiece& w = cell.workpieces.front();
+    std::vector<Pose> poses;
+    for (int k = 0; k < 40; ++k) {
+      // Look at a point near the seam from a tilted direction, 40..450 mm away.
+      const Vec3 target = w.world_from_joint * Vec3(100.0 + 60.0 * u(rng), 15.0 * u(rng), 5.0 * u(rng));
+      const Vec3 view = (default_view_direction(w) + 0.45 * Vec3(u(rng), u(rng), u(rng))).normalized();
+      const double standoff = 245.0 + 205.0 * u(rng);
+      Pose p = sensor_pose_looking_at(target, view, standoff, w.seam_direction());
+      // Roll about the optical axis up to 20 degrees.
+      p.linear() = p.linear() * Eigen::AngleAxisd(0.35 * u(rng), Vec3::UnitZ()).toRotationMatrix();
+      poses.push_back(p);
+    }
+    check_poses(cell, poses);
+    poses_checked += static_cast<int>(poses.size());
+  }
+  CHECK(poses_checked >= 200);
+}
+
+TEST_CASE("cross-check holds at N = 16 and 256 and 4096", "[gl][crosscheck]") {
+  for (int n : {16, 256, 4096}) {
+    Cell cell = *builtin_cell("vgroove");
+    cell.scanner.points = n;
+    check_poses(cell, {cell.path.pose_at(0), cell.path.pose_at(50)});
+  }
+}
+
+namespace {
+
+// Total least-squares line through 2D points: returns (point, unit direction).
+std::pair<Vec2, Vec2> fit_line(const std::vector<Vec2>& pts) {
+  Vec2 mean = Vec2::Zero();
+  for (const auto& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  return {mean, es.eigenvectors().col(1)};
+}
+
+Vec2 intersect(const std::pair<Vec2, Vec2>& l1, const std::pair<Vec2, Vec2>& l2) {
+  Eigen::Matrix2d m;
+  m.col(0) = l1.second;
+  m.col(1) = -l2.second;
+  const Vec2 s = m.colPivHouseholderQr().solve(l2.first - l1.first);
+  return l1.first + s(0) * l1.second;
+}
+
+}  // namespace
+
+TEST_CASE("static setups A-F: points on the analytic plates and fitted lines meeting at the root",
+          "[gl][crosscheck][static]") {
+  for (const auto& s : kStaticSetups) {
+    const Cell cell = *builtin_cell(std::string("static-") + s.label);
+    const Workpiece& w = cell.workpieces.front();
+    const auto planes = w.face_planes();
+    // The flange's top face (z = 0) and the web's open-side face (through the root, normal +y).
+    const Vec3 flange_n = Vec3::UnitZ(), web_n = Vec3::UnitY();
+    std::unique_ptr<ProfileSource> sources[] = {raster_for(cell), reference_for(cell)};
+    for (auto& source : sources) {
+      Profile p;
+      const Pose pose = cell.path.pose_at(0);
+      source->scan(pose, p);
+      std::vector<Vec2> flange, web;
+      for (int i = 0; i < p.size(); ++i) {
+        if (!p.valid[i]) continue;
+        const Vec3 world = pose * Vec3(0.0, p.y_mm[i], p.z_mm[i]);
+        double nearest = 1e9;
+        for (const auto& [n, d] : planes) nearest = std::min(nearest, std::abs(n.dot(world) - d));
+        INFO("static-" << s.label << " " << source->kind() << " column " << i);
+        CHECK(nearest <= 0.001);
+        const Vec2 yz(p.y_mm[i], p.z_mm[i]);
+        if (std::abs(world.dot(flange_n)) <= 0.001) flange.push_back(yz);
+        else if (std::abs(world.dot(web_n)) <= 0.001) web.push_back(yz);
+      }
+      REQUIRE(flange.size() > 50);
+      REQUIRE(web.size() > 50);
+      const Vec2 root_sensor = intersect(fit_line(flange), fit_line(web));
+      // The analytic root in the laser plane: on the seam at the laser's x.
+      const Vec3 root_world(pose.translation().x(), 0.0, 0.0);
+      const Vec3 measured = pose * Vec3(0.0, root_sensor.x(), root_sensor.y());
+      INFO("static-" << s.label << " " << source->kind() << " root error " << (measured - root_world).norm());
+      CHECK((measured - root_world).norm() <= 0.01);
+      // And it lies on the optical axis at the Table 2 distance.
+      CHECK(root_sensor.x() == Approx(0.0).margin(0.01));
+      CHECK(root_sensor.y() == Approx(s.distance_mm).margin(0.01));
+    }
+  }
+}
