@@ -180,7 +180,7 @@ TEST_CASE("exr: round trip is bit-exact", "[exr]") {
   }
 }
 
-TEST_CASE("exr: writer rejects rows out of order, extra rows and wrong sizes", "[exr]") {
+TEST_CASE("exr: writer rejects rows out of order and extra rows and wrong sizes", "[exr]") {
   TempDir dir;
   const fs::path file = dir.path / "bad.exr";
   std::mt19937 rng(7);
