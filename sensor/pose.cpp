@@ -21,18 +21,13 @@ Pose pose_from_xyz_rpy(const Vec3& position_mm, const Vec3& rpy_deg) {
 
 Vec3 rpy_deg_of(const Pose& pose) {
   const Eigen::Matrix3d& r = pose.linear();
-  // R = Rz(y) Ry(p) Rx(r): r20 = -sin(p).
-  // atan2 keeps full precision near pitch = +-90 degrees, where asin does not.
-  const double pitch = std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)));
-  double roll, yaw;
-  if (std::abs(r(2, 0)) < 1.0 - 1e-12) {
-    roll = std::atan2(r(2, 1), r(2, 2));
-    yaw = std::atan2(r(1, 0), r(0, 0));
-  } else {  // gimbal lock: put everything into yaw
-    roll = 0.0;
-    yaw = std::atan2(-r(0, 1), r(1, 1));
-  }
-  return Vec3(roll, pitch, yaw) / kDeg;
+  // R = Rz(y) Ry(p) Rx(r): r20 = -sin(p). atan2 of both the sine and the
+  // cosine keeps full precision near pitch = +-90 degrees, where asin does not.
+  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
+  const double pitch = std::atan2(-r(2, 0), cos_pitch);
+  if (cos_pitch < 1e-12)  // gimbal lock: roll and yaw share one axis; put it all in yaw
+    return Vec3(0.0, pitch, std::atan2(-r(0, 1), r(1, 1))) / kDeg;
+  return Vec3(std::atan2(r(2, 1), r(2, 2)), pitch, std::atan2(r(1, 0), r(0, 0))) / kDeg;
 }
 
 bool pose_look_at(const Vec3& eye_mm, const Vec3& target_mm, const Vec3& travel, Pose& out) {

@@ -367,25 +367,11 @@ void write_vec3(std::ostringstream& out, const Vec3& v) {
   out << "[" << num(v.x()) << ", " << num(v.y()) << ", " << num(v.z()) << "]";
 }
 
-// Fixed-axis roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll)) in degrees.
-// Unlike an asin of r20, atan2 of both the sine and cosine of the pitch keeps
-// full precision near pitch = +-90 degrees, so the written angles rebuild the
-// rotation to ~1e-15 everywhere.
-Vec3 precise_rpy_deg(const Eigen::Matrix3d& r) {
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
-  const double cos_pitch = std::hypot(r(0, 0), r(1, 0));
-  const double pitch = std::atan2(-r(2, 0), cos_pitch);
-  if (cos_pitch < 1e-12) {  // gimbal lock: roll and yaw share one axis; put it all in yaw
-    return Vec3(0.0, pitch, std::atan2(-r(0, 1), r(1, 1))) / kDeg;
-  }
-  return Vec3(std::atan2(r(2, 1), r(2, 2)), pitch, std::atan2(r(1, 0), r(0, 0))) / kDeg;
-}
-
 void write_pose(std::ostringstream& out, const std::string& indent, const Pose& pose) {
   out << indent << "position_mm: ";
   write_vec3(out, pose.translation());
   out << "\n" << indent << "rpy_deg: ";
-  write_vec3(out, precise_rpy_deg(pose.linear()));
+  write_vec3(out, rpy_deg_of(pose));
   out << "\n";
 }
 
