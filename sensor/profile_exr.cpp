@@ -3,9 +3,12 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <iterator>
+#include <vector>
 #include <ImfInputFile.h>
-#include <ImfOutputFile.h>
 #include <ImfStdIO.h>
+#include <openexr.h>
+#include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
 #include <unistd.h>
 
@@ -530,6 +533,116 @@ ProfileRecording Reader::read() {
 
 }  // namespace
 
+// The C++ header reader trusts sizes the core does not see the same way: it
+// reads a channel list up to its terminating empty name whatever the declared
+// size, and allocates what variable-size attributes (string vectors,
+// previews, opaque types) claim. So before it runs, walk the header as it
+// will: every attribute within the file, the channel list ending exactly at its
+// declared size, and besides strings only attribute types of a fixed size.
+int fixed_attribute_size(const std::string& type) {
+  static const std::pair<const char*, int> kSizes[] = {
+      {"box2i", 16}, {"box2f", 16}, {"compression", 1}, {"lineOrder", 1}, {"float", 4},
+      {"double", 8}, {"int", 4},    {"v2i", 8},         {"v2f", 8},       {"v2d", 16},
+      {"v3i", 12},   {"v3f", 12},   {"v3d", 24},        {"m33f", 36},     {"m33d", 72},
+      {"m44f", 64},  {"m44d", 128}, {"chromaticities", 32}, {"rational", 8}, {"timecode", 8},
+      {"keycode", 28}, {"envmap", 1}, {"tiledesc", 9}, {"deepImageState", 1}};
+  for (const auto& [name, size] : kSizes)
+    if (type == name) return size;
+  return -1;
+}
+
+void check_header_layout(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t n = bytes.size();
+  const std::size_t max_name = (n > 5 && (bytes[5] & 0x04)) ? 255 : 31;  // long-names flag
+  std::size_t pos = 8;
+  auto fail = [&](const std::string& why) { return ExrError(where(path) + ": header " + why); };
+  auto read_cstr = [&](std::string& out) {
+    out.clear();
+    while (pos < n && bytes[pos] != '\0') {
+      if (out.size() >= max_name) throw fail("has a name longer than " + std::to_string(max_name) + " bytes");
+      out.push_back(bytes[pos++]);
+    }
+    if (pos >= n) throw fail("ends early (truncated file)");
+    ++pos;
+  };
+  for (;;) {
+    std::string name, type;
+    read_cstr(name);
+    if (name.empty()) return;
+    read_cstr(type);
+    if (pos + 4 > n) throw fail("ends early (truncated file)");
+    std::int32_t size = 0;
+    std::memcpy(&size, &bytes[pos], 4);  // little-endian, as the machines we build for
+    pos += 4;
+    if (size < 0 || pos + static_cast<std::size_t>(size) > n)
+      throw fail("attribute '" + name + "' claims " + std::to_string(size) + " bytes, more than the file holds");
+    const std::size_t end = pos + static_cast<std::size_t>(size);
+    if (type == "chlist") {
+      std::string channel;
+      for (;;) {
+        read_cstr(channel);
+        if (channel.empty()) break;
+        pos += 16;  // pixel type, pLinear, reserved, x and y sampling
+        if (pos > end) throw fail("channel list overruns its declared size");
+      }
+      if (pos != end) throw fail("channel list does not end at its declared size");
+    } else if (type != "string" && fixed_attribute_size(type) != size) {
+      throw fail("attribute '" + name + "' of type '" + type + "' and size " + std::to_string(size) +
+                 " is not one a vts profile file has");
+    }
+    pos = end;
+  }
+}
+
+// A vts file's pixels are at least four FLOAT channels of width x rows, and
+// no codec shrinks such data more than deflate's ~1032:1.
+constexpr double kMaxCompressionRatio = 1100.0;
+
+// Checks the header with OpenEXR's bounds-checked C core before the C++
+// library reads it: OpenEXR 3.1's C++ header reader allocates whatever size a
+// (forged) attribute claims, and sizes the line-offset table from the data
+// window. The core rejects inconsistent attribute sizes; we then refuse a data
+// window wider than kMaxPoints or larger than the file can hold.
+void check_header_sane(const fs::path& path) {
+  std::string message;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.user_data = &message;
+  init.error_handler_fn = [](exr_const_context_t ctxt, exr_result_t code, const char* msg) {
+    std::string* out = nullptr;
+    exr_get_user_data(ctxt, reinterpret_cast<void**>(&out));
+    if (out && out->empty()) *out = msg ? msg : exr_get_default_error_message(code);
+  };
+  init.max_image_width = kMaxPoints;
+  exr_context_t ctxt = nullptr;
+  const exr_result_t rv = exr_start_read(&ctxt, path.c_str(), &init);
+  struct Finish {
+    exr_context_t* c;
+    ~Finish() { exr_finish(c); }
+  } finish{&ctxt};
+  if (rv != EXR_ERR_SUCCESS)
+    throw ExrError(where(path) + ": not a readable EXR: " +
+                   (message.empty() ? exr_get_default_error_message(rv) : message));
+  int parts = 0;
+  exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+  exr_get_count(ctxt, &parts);
+  exr_get_storage(ctxt, 0, &storage);
+  if (parts != 1 || storage != EXR_STORAGE_SCANLINE)
+    throw ExrError(where(path) + ": a tiled, deep or multi-part EXR, not a vts profile file");
+  exr_attr_box2i_t dw{};
+  exr_get_data_window(ctxt, 0, &dw);
+  const double width = double(dw.max.x) - dw.min.x + 1.0;
+  const double rows = double(dw.max.y) - dw.min.y + 1.0;
+  const std::uintmax_t file_bytes = fs::file_size(path);
+  if (width < 1.0 || rows < 1.0 || width > kMaxPoints ||
+      width * rows * 4.0 * 4.0 > kMaxCompressionRatio * static_cast<double>(file_bytes))
+    throw ExrError(where(path) + ": dataWindow of " + std::to_string(static_cast<long long>(width)) +
+                   " x " + std::to_string(static_cast<long long>(rows)) +
+                   " cannot be a vts profile file of " + std::to_string(file_bytes) +
+                   " bytes (at most 4096 columns; truncated or corrupt)");
+}
+
 ProfileRecording read_profile_exr(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw ExrError(where(path) + ": no such file");
@@ -546,6 +659,8 @@ ProfileRecording read_profile_exr(const fs::path& path) {
   }
   Reader reader{path};
   try {
+    check_header_layout(path);
+    check_header_sane(path);
     return reader.read();
   } catch (const ExrError&) {
     throw;
