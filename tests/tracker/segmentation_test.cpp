@@ -1,0 +1,220 @@
+// Steps 1 to 4 on synthetic profiles: outlier elimination, split, merge and
+// the line fits, with the paper's Table 1 defaults.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "synthetic.h"
+#include "tracker/segmentation.h"
+
+namespace tk = vts::tracker;
+using tk::Vec2;
+
+namespace {
+
+tk::Segmentation segment(const synth::Profile& p, const tk::SegmentationParams& params = {}) {
+  tk::Segmentation s;
+  tk::segment_profile(p.view(), params, s);
+  return s;
+}
+
+int long_segments(const tk::Segmentation& s, int min_points = 8) {
+  int n = 0;
+  for (const auto& sg : s.segments) n += sg.count() >= min_points;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("segmentation: Table 1 defaults", "[tracker][segmentation]") {
+  const tk::SegmentParams p;
+  CHECK(p.split_threshold_mm == 0.4);
+  CHECK(p.split_interval == 2);
+  CHECK(p.min_segment_points == 8);
+  CHECK(p.max_merge_gap_points == 10);
+  CHECK(p.max_merge_angle_deg == 15.0);
+}
+
+TEST_CASE("segmentation: a straight plate is one segment", "[tracker][segmentation]") {
+  const auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  const auto s = segment(p);
+  REQUIRE(s.segments.size() == 1);
+  CHECK(s.segments[0].count() == 512);
+  CHECK(s.segments[0].first_col == 0);
+  CHECK(s.segments[0].last_col == 511);
+  CHECK(s.segments[0].line.distance(Vec2(0, 100)) == Approx(0.0).margin(1e-4));
+  CHECK(s.outliers == 0);
+}
+
+TEST_CASE("segmentation: a V splits at its corner, no point lost", "[tracker][segmentation]") {
+  const auto p = synth::sample(synth::valley(Vec2(0.3, 100), 90.0));
+  const auto s = segment(p);
+  REQUIRE(s.segments.size() == 2);
+  // Every kept point belongs to exactly one segment, in order.
+  CHECK(s.segments[0].first == 0);
+  CHECK(s.segments[1].first == s.segments[0].last + 1);
+  CHECK(s.segments[1].last == static_cast<int>(s.points.size()) - 1);
+  const auto x = tk::intersect(s.segments[0].line, s.segments[1].line);
+  REQUIRE(x);
+  CHECK((*x - Vec2(0.3, 100)).norm() < 1e-3);
+  // Each point sits on its own segment's line.
+  for (const auto& sg : s.segments)
+    for (int k = sg.first; k <= sg.last; ++k) CHECK(sg.line.distance(s.points[k]) < 1e-3);
+}
+
+TEST_CASE("segmentation: a vertical wall is fitted in normal form", "[tracker][segmentation]") {
+  // A wall at y = 5 (parallel to the optical axis) seen obliquely, z from 60
+  // to 100, then a floor at z = 100.
+  const auto p = synth::sample({{Vec2(5, 60), Vec2(5, 100)}, {Vec2(5, 100), Vec2(60, 100)}});
+  const auto s = segment(p);
+  bool wall = false;
+  for (const auto& sg : s.segments)
+    if (sg.count() >= 8 && std::abs(sg.line.n.x()) > 0.999999) {
+      wall = true;
+      CHECK(sg.line.distance(Vec2(5, 0)) == Approx(0.0).margin(1e-4));
+    }
+  CHECK(wall);
+}
+
+TEST_CASE("segmentation: regions smaller than s_min are not split", "[tracker][segmentation]") {
+  // A 7-point profile with a sharp bend stays one segment.
+  synth::Profile p = synth::sample(synth::valley(Vec2(0, 100), 90.0), 512);
+  for (int i = 0; i < 512; ++i)
+    if (i < 253 || i > 259) p.invalidate(i, i);
+  tk::SegmentationParams params;
+  params.outliers.enabled = false;
+  const auto s = segment(p, params);
+  REQUIRE(s.points.size() == 7);
+  CHECK(s.segments.size() == 1);
+}
+
+TEST_CASE("segmentation: merge across a dropout shorter than g_max, not across a longer one",
+          "[tracker][segmentation]") {
+  for (int missing : {3, 9, 10, 25}) {
+    auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+    p.invalidate(200, 200 + missing - 1);
+    const auto s = segment(p);
+    INFO(missing << " invalid columns");
+    CHECK(static_cast<int>(s.segments.size()) == (missing < 10 ? 1 : 2));
+  }
+}
+
+TEST_CASE("segmentation: collinear pieces offset by a step are not merged", "[tracker][segmentation]") {
+  // Two parallel plates 0.5 mm apart with 4 invalid columns between them.
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(0, 100)}, {Vec2(0, 99.5), Vec2(80, 99.5)}});
+  int cut = 0;
+  while (p.y[cut] < 0.0f) ++cut;
+  p.invalidate(cut, cut + 3);
+  const auto s = segment(p);
+  CHECK(long_segments(s) == 2);
+}
+
+TEST_CASE("segmentation: merge angle", "[tracker][segmentation]") {
+  // Two plates meeting at a 10-degree kink with a dropout at the kink: the
+  // angle is below 15 degrees but together they are not one line, so they
+  // stay two; a 0.3-degree kink is one line.
+  for (double kink : {10.0, 0.3}) {
+    const Vec2 k(0, 100);
+    auto p = synth::sample({{k - 80 * Vec2(1, 0), k}, {k, k + 80 * synth::dir_deg(-kink)}});
+    int c = 0;
+    while (p.y[c] < 0.0f) ++c;
+    p.invalidate(c - 2, c + 2);
+    const auto s = segment(p);
+    INFO("kink " << kink);
+    CHECK(long_segments(s) == (kink > 1.0 ? 2 : 1));
+  }
+}
+
+TEST_CASE("outliers: single spikes and clusters of up to 4 points are removed", "[tracker][segmentation]") {
+  for (int cluster : {1, 2, 3, 4}) {
+    for (double height : {0.5, 3.0, -2.0}) {
+      auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+      for (int k = 0; k < cluster; ++k) {
+        p.z[300 + k] += static_cast<float>(height - 0.13 * k);
+        p.y[300 + k] = p.y[300 + k] * p.z[300 + k] / 100.0f;  // still on its column's ray
+      }
+      const auto s = segment(p);
+      INFO(cluster << " points " << height << " mm off the plate");
+      CHECK(s.outliers == cluster);
+      CHECK(s.segments.size() == 1);
+      for (int k = 0; k < cluster; ++k) CHECK(s.column_state[300 + k] == tk::kColumnOutlier);
+    }
+  }
+}
+
+TEST_CASE("outliers: a cluster inside a shadow (an island) is removed", "[tracker][segmentation]") {
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  p.invalidate(200, 240);
+  p.valid[220] = p.valid[221] = 1;
+  p.y[220] = -3.0f, p.z[220] = 70.0f;
+  p.y[221] = -2.9f, p.z[221] = 70.1f;
+  const auto s = segment(p);
+  CHECK(s.outliers == 2);
+  // 41 columns without a point: more than g_max, so two pieces of one line.
+  REQUIRE(s.segments.size() == 2);
+  CHECK(s.segments[0].last_col == 199);
+  CHECK(s.segments[1].first_col == 241);
+}
+
+TEST_CASE("outliers: corners and short real faces are kept", "[tracker][segmentation]") {
+  // A V: nothing is removed at the corner.
+  {
+    const auto s = segment(synth::sample(synth::valley(Vec2(0, 100), 90.0)));
+    CHECK(s.outliers == 0);
+  }
+  {
+    const auto s = segment(synth::sample(synth::ridge(Vec2(0, 100), 100.0)));
+    CHECK(s.outliers == 0);
+  }
+  // A step 1.5 mm high whose face, seen obliquely, shows 3 points.
+  {
+    const auto p = synth::sample(
+        {{Vec2(-80, 101.5), Vec2(30, 101.5)}, {Vec2(30, 100), Vec2(30, 101.5)}, {Vec2(30, 100), Vec2(80, 100)}});
+    int on_face = 0;
+    for (int i = 0; i < p.size(); ++i) on_face += p.valid[i] && std::abs(p.y[i] - 30.0f) < 1e-4f;
+    REQUIRE(on_face >= 2);
+    REQUIRE(on_face <= 4);
+    const auto s = segment(p);
+    CHECK(s.outliers == 0);
+  }
+}
+
+TEST_CASE("segmentation: NaN, infinity and points behind the sensor are invalid", "[tracker][segmentation]") {
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  p.y[10] = std::numeric_limits<float>::quiet_NaN();
+  p.z[11] = std::numeric_limits<float>::infinity();
+  p.y[12] = -std::numeric_limits<float>::infinity();
+  p.z[13] = -5.0f;
+  p.z[14] = std::numeric_limits<float>::quiet_NaN();
+  const auto s = segment(p);
+  CHECK(s.valid_points == 512 - 5);
+  for (int i = 10; i <= 14; ++i) CHECK(s.column_state[i] == tk::kColumnInvalid);
+  CHECK(s.segments.size() == 1);
+}
+
+TEST_CASE("segmentation: region of interest", "[tracker][segmentation]") {
+  const auto p = synth::sample(synth::valley(Vec2(0, 100), 90.0));
+  tk::SegmentationParams params;
+  params.roi_first = 300;
+  params.roi_last = 400;
+  const auto s = segment(p, params);
+  CHECK(s.valid_points == 101);
+  REQUIRE(s.segments.size() == 1);
+  CHECK(s.segments[0].first_col == 300);
+  CHECK(s.segments[0].last_col == 400);
+}
+
+TEST_CASE("segmentation: column rays between kept points", "[tracker][segmentation]") {
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  p.invalidate(100, 120);
+  const auto s = segment(p);
+  for (int col : {0, 99, 110, 121, 511}) CHECK(s.column_tan(col) == Approx(synth::column_tan(col, 512)).margin(1e-6));
+}
+
+TEST_CASE("segmentation: malformed input", "[tracker][segmentation]") {
+  std::vector<float> y(10, 0.0f), z(9, 100.0f);
+  tk::Segmentation s;
+  tk::segment_profile({y, z, {}}, {}, s);
+  CHECK_FALSE(s.error.empty());
+  CHECK(s.points.empty());
+}

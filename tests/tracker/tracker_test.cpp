@@ -1,0 +1,339 @@
+// Template matching on synthetic profiles: the joints' break points and
+// process values against hand-computed geometry, reject reasons, no_data,
+// robustness (outlier clusters, shadows, dropouts) and allocation-free reuse.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+
+#include "synthetic.h"
+#include "tracker/tracker.h"
+
+namespace tk = vts::tracker;
+using tk::Vec2;
+
+namespace {
+
+std::atomic<long> g_allocations{0};
+
+tk::TrackResult track(const synth::Profile& p, tk::JointType joint, tk::TrackerParams params = {}) {
+  params.joint = joint;
+  tk::Tracker t(params);
+  return t.track(p.view());
+}
+
+// Lateral spacing of the synthetic columns at range z.
+double spacing_at(double z) { return z * 2.0 * std::tan(20.0 * std::numbers::pi / 180.0) / 512.0; }
+
+}  // namespace
+
+// Counts heap allocations in this test binary (for the reuse test below).
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+TEST_CASE("joint types: names round-trip", "[tracker]") {
+  for (tk::JointType j : tk::kAllJointTypes) CHECK(tk::joint_type_from_string(tk::to_string(j)) == j);
+  CHECK_FALSE(tk::joint_type_from_string("tee"));
+  CHECK(tk::to_string(tk::TrackStatus::NoData) == "no_data");
+  CHECK(tk::break_point_name(tk::JointType::Fillet, 1) == "root");
+  CHECK(tk::break_point_name(tk::JointType::Fillet, 7).empty());
+  CHECK(tk::break_point_name(tk::JointType::VGroove, 3) == "root centre");
+}
+
+TEST_CASE("no_data: empty, all invalid, one point, NaN, mismatched spans", "[tracker]") {
+  tk::Tracker t;
+  CHECK(t.track(tk::ProfileView{}).status == tk::TrackStatus::NoData);
+
+  auto p = synth::sample(synth::valley(Vec2(0, 100), 90.0));
+  auto all_invalid = p;
+  all_invalid.invalidate(0, 511);
+  CHECK(t.track(all_invalid.view()).status == tk::TrackStatus::NoData);
+
+  auto one = all_invalid;
+  one.valid[200] = 1;
+  one.y[200] = 1.0f, one.z[200] = 100.0f;
+  const auto& r1 = t.track(one.view());
+  CHECK(r1.status == tk::TrackStatus::NoData);
+  CHECK_FALSE(r1.reason.empty());
+
+  auto nan = p;
+  for (int i = 0; i < nan.size(); ++i) nan.z[i] = std::numeric_limits<float>::quiet_NaN();
+  CHECK(t.track(nan.view()).status == tk::TrackStatus::NoData);
+  auto inf = p;
+  for (int i = 0; i < inf.size(); ++i) inf.y[i] = (i % 2 ? 1 : -1) * std::numeric_limits<float>::infinity();
+  CHECK(t.track(inf.view()).status == tk::TrackStatus::NoData);
+
+  std::vector<float> y(10, 0.0f), z(11, 100.0f);
+  const auto& r2 = t.track(tk::ProfileView{y, z, {}});
+  CHECK(r2.status == tk::TrackStatus::NoData);
+  CHECK(r2.reason.find("differ in length") != std::string::npos);
+}
+
+TEST_CASE("fillet: root, angle and zero gap from two plates", "[tracker][fillet]") {
+  for (double angle : {60.0, 90.0, 120.0}) {
+    const Vec2 root(1.234, 123.4);
+    const auto r = track(synth::sample(synth::valley(root, angle)), tk::JointType::Fillet);
+    INFO("angle " << angle << ": " << r.reason);
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    CHECK((*r.track_point - root).norm() < 1e-3);
+    CHECK(r.angle_deg == Approx(angle).margin(1e-3));
+    CHECK(r.gap_mm == 0.0);
+    CHECK(r.gap_paper_mm == 0.0);
+    for (int i : {0, 1, 2, 3, 4}) CHECK(r.break_points[i].has_value());
+    CHECK((*r.break_points[1] - root).norm() < 1e-3);
+    CHECK_FALSE(r.break_points[5].has_value());
+    CHECK(r.segments.size() == 2);
+  }
+}
+
+TEST_CASE("fillet: the web lifted off the flange shows a gap", "[tracker][fillet]") {
+  // Flange from the left up to the root and on under the web; the web (the
+  // second plate) starts `gap` above the flange along its own line.
+  const Vec2 root(0.0, 100.0);
+  const Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
+  // Flange line: through root along `left`; the web's edge lies on the web's
+  // line, `gap` from the flange line (measured perpendicular to the flange).
+  const Vec2 flange_n(-left.y(), left.x());
+  for (double gap : {0.5, 1.0, 2.0}) {
+    const double along = gap / std::abs(right.dot(flange_n));
+    const Vec2 toe = root + along * right;
+    const auto p = synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}});
+    const auto r = track(p, tk::JointType::Fillet);
+    INFO("gap " << gap << ": " << r.reason);
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    CHECK((*r.track_point - root).norm() < 1e-3);
+    // The edge lies between two rays: within one point spacing along the web.
+    const double tol = spacing_at(100.0) / std::abs(right.x()) + 1e-3;
+    CHECK(r.gap_mm == Approx(gap).margin(tol));
+    CHECK(r.gap_paper_mm >= r.gap_mm - 1e-9);  // the web's last point lies above its edge
+    CHECK((*r.break_points[3] - toe).norm() < 2.0 * tol);
+    CHECK(r.edge_uncertainty_mm > 0.0);
+  }
+}
+
+TEST_CASE("fillet: a shadow at the root is not a gap", "[tracker][fillet]") {
+  const Vec2 root(0.5, 100.0);
+  auto p = synth::sample(synth::valley(root, 90.0));
+  int c = 0;
+  while (p.y[c] < root.x()) ++c;
+  p.invalidate(c - 12, c + 3);  // 16 columns around the root return nothing
+  const auto r = track(p, tk::JointType::Fillet);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.gap_mm == 0.0);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(90.0).margin(1e-3));
+}
+
+TEST_CASE("fillet: outlier clusters and dropouts on the plates change nothing", "[tracker][fillet]") {
+  const Vec2 root(-2.0, 110.0);
+  auto p = synth::sample(synth::valley(root, 90.0));
+  // A 3-point reflection 1.5 mm in front of the flange, a 2-point one behind
+  // the web, a single spike, and an 8-column dropout on the web.
+  for (int k = 0; k < 3; ++k) p.z[100 + k] -= 1.5f, p.y[100 + k] *= p.z[100 + k] / (p.z[100 + k] + 1.5f);
+  for (int k = 0; k < 2; ++k) p.z[400 + k] += 2.0f;
+  p.z[150] += 0.8f;
+  p.invalidate(440, 447);
+  const auto r = track(p, tk::JointType::Fillet);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.outliers == 6);
+  CHECK(r.segments.size() == 2);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(90.0).margin(1e-3));
+}
+
+TEST_CASE("fillet: an outlier cluster right at the root", "[tracker][fillet]") {
+  const Vec2 root(0.0, 100.0);
+  auto p = synth::sample(synth::valley(root, 90.0));
+  int c = 0;
+  while (p.y[c] < root.x()) ++c;
+  for (int k = c + 2; k < c + 5; ++k) p.z[k] -= 3.0f;
+  const auto r = track(p, tk::JointType::Fillet);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+}
+
+TEST_CASE("reject reasons", "[tracker]") {
+  SECTION("angle out of range") {
+    tk::TrackerParams params;
+    params.fillet.angle_deg = {80.0, 100.0};
+    const auto r = track(synth::sample(synth::valley(Vec2(0, 100), 120.0)), tk::JointType::Fillet, params);
+    CHECK(r.status == tk::TrackStatus::Rejected);
+    CHECK(r.reason.find("angle 120 deg outside [80, 100]") != std::string::npos);
+    CHECK(r.angle_deg == Approx(120.0).margin(1e-3));  // the values are still reported
+    CHECK(r.track_point.has_value());
+  }
+  SECTION("gap out of range") {
+    tk::TrackerParams params;
+    params.butt.gap_mm = {0.0, 1.0};
+    auto p = synth::sample({{Vec2(-80, 100), Vec2(-1.5, 100)}, {Vec2(1.5, 100), Vec2(80, 100)}});
+    const auto r = track(p, tk::JointType::Butt, params);
+    CHECK(r.status == tk::TrackStatus::Rejected);
+    CHECK(r.reason.rfind("gap ", 0) == 0);
+    CHECK(r.reason.find("outside [0, 1]") != std::string::npos);
+  }
+  SECTION("too few segments") {
+    const auto r = track(synth::sample({{Vec2(-80, 100), Vec2(80, 100)}}), tk::JointType::Fillet);
+    CHECK(r.status == tk::TrackStatus::Rejected);
+    CHECK(r.reason.rfind("too few segments", 0) == 0);
+  }
+  SECTION("wrong shape") {
+    const auto r = track(synth::sample(synth::ridge(Vec2(0, 100), 90.0)), tk::JointType::Fillet);
+    CHECK(r.status == tk::TrackStatus::Rejected);
+    CHECK(r.reason == "no inside corner between two plates");
+    const auto v = track(synth::sample(synth::valley(Vec2(0, 100), 90.0)), tk::JointType::Corner);
+    CHECK(v.reason == "no outside corner between two plates");
+  }
+}
+
+TEST_CASE("corner: apex and angle; nearly collinear faces", "[tracker][corner]") {
+  tk::TrackerParams params;
+  params.corner.angle_deg = {60.0, 179.0};
+  for (double angle : {90.0, 150.0, 172.0}) {
+    const Vec2 apex(-0.7, 150.0);
+    const auto r = track(synth::sample(synth::ridge(apex, angle)), tk::JointType::Corner, params);
+    INFO("angle " << angle << ": " << r.reason);
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    CHECK((*r.track_point - apex).norm() < 1e-3);
+    CHECK(r.angle_deg == Approx(angle).margin(0.01));
+    CHECK(r.gap_mm == Approx(0.0).margin(1e-6));
+  }
+  // One degree from flat: within the split threshold over the whole profile,
+  // so there is one segment and no corner to report.
+  const auto r = track(synth::sample(synth::ridge(Vec2(0, 150), 179.0)), tk::JointType::Corner, params);
+  CHECK(r.status == tk::TrackStatus::Rejected);
+  CHECK(r.reason.rfind("too few segments", 0) == 0);
+}
+
+TEST_CASE("butt: gap and mismatch between two plates", "[tracker][butt]") {
+  for (double mismatch : {0.0, 1.0}) {
+    for (double gap : {0.0, 0.3, 1.0, 2.5}) {
+      if (gap == 0.0 && mismatch == 0.0) continue;  // nothing to see
+      const double yl = -0.5 * gap + 0.2, yr = 0.5 * gap + 0.2;
+      // The right plate raised (nearer the sensor) by the mismatch, with its
+      // square edge face.
+      const auto p = synth::sample({{Vec2(-80, 100), Vec2(yl, 100)},
+                                    {Vec2(yl, 100), Vec2(yl, 106)},
+                                    {Vec2(yr, 100 - mismatch), Vec2(80, 100 - mismatch)},
+                                    {Vec2(yr, 100 - mismatch), Vec2(yr, 106 - mismatch)}});
+      const auto r = track(p, tk::JointType::Butt);
+      INFO("gap " << gap << " mismatch " << mismatch << ": " << r.reason);
+      REQUIRE(r.status == tk::TrackStatus::Ok);
+      const double tol = 2.0 * spacing_at(100.0) + 1e-3;
+      CHECK(r.gap_mm == Approx(gap).margin(tol));
+      CHECK(r.mismatch_mm == Approx(mismatch).margin(1e-3));
+      // Track point: the gap's centre on the lower plate's surface.
+      CHECK((*r.track_point - Vec2(0.2, 100)).norm() < tol);
+      CHECK(r.angle_deg == Approx(180.0).margin(0.01));
+    }
+  }
+}
+
+TEST_CASE("butt: coplanar plates merged across the gap are still split at it", "[tracker][butt]") {
+  // A 3-column gap: the merge joins the plates (gap < 10 points, same line).
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  int c = 0;
+  while (p.y[c] < 0.0f) ++c;
+  p.invalidate(c, c + 2);
+  const auto r = track(p, tk::JointType::Butt);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.segments.size() == 1);
+  const double s = spacing_at(100.0);
+  CHECK(r.gap_mm == Approx(3.0 * s).margin(s));
+  CHECK(std::abs(r.track_point->x() - (p.y[c - 1] + p.y[c + 3]) / 2.0) < s);
+}
+
+TEST_CASE("v-groove: root, angle, depth and area", "[tracker][vgroove]") {
+  // 60-degree groove, 1.2 mm root opening, 8 mm deep, plate tops at z = 92.
+  const double half = 30.0, depth = 8.0, gap = 1.2;
+  const double run = depth * std::tan(half * std::numbers::pi / 180.0);
+  const Vec2 lr(-0.5 * gap, 100), rr(0.5 * gap, 100);
+  const Vec2 lt = lr + Vec2(-run, -depth), rt = rr + Vec2(run, -depth);
+  const auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
+                                {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}});
+  const auto r = track(p, tk::JointType::VGroove);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  // Root edges lie between two rays along the bevels.
+  const double tol = spacing_at(100.0) / std::sin(half * std::numbers::pi / 180.0) + 1e-3;
+  CHECK((*r.track_point - Vec2(0, 100)).norm() < tol);
+  CHECK(r.angle_deg == Approx(60.0).margin(1e-3));
+  CHECK(r.gap_mm == Approx(gap).margin(2 * tol));
+  CHECK(r.depth_mm == Approx(depth).margin(tol));
+  CHECK(r.mismatch_mm == Approx(0.0).margin(tol));
+  const double area = 0.5 * (gap + gap + 2 * run) * depth;
+  CHECK(r.area_mm2 == Approx(area).margin(2 * tol * (gap + 2 * run + depth)));
+  CHECK((*r.break_points[1] - lt).norm() < 1e-3);  // top edges: exact (lines meet)
+  CHECK((*r.break_points[5] - rt).norm() < 1e-3);
+  for (int i = 0; i <= 6; ++i) CHECK(r.break_points[i].has_value());
+  CHECK_FALSE(r.break_points[7].has_value());
+}
+
+TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
+  const Vec2 root(0.4, 120);
+  const double run = 10.0 * std::tan(std::numbers::pi / 6);
+  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
+  const auto p = synth::sample({{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}});
+  const auto r = track(p, tk::JointType::VGroove);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+  CHECK(r.gap_mm == Approx(0.0).margin(1e-6));
+  CHECK(r.depth_mm == Approx(10.0).margin(1e-3));
+}
+
+TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap]") {
+  // Lower plate at z = 100, upper plate's top at z = 96 (4 mm step) on the
+  // right; its edge face at y = 20 faces the sensor (seen obliquely).
+  const auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20, 96), Vec2(20, 100)},
+                                {Vec2(20, 96), Vec2(80, 96)}});
+  const auto r = track(p, tk::JointType::Lap);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < 1e-3);
+  CHECK(r.step_mm == Approx(4.0).margin(1e-3));
+  CHECK(r.angle_deg == Approx(90.0).margin(0.01));
+  CHECK(r.gap_mm == Approx(0.0).margin(1e-6));
+  CHECK((*r.break_points[3] - Vec2(20, 96)).norm() < 1e-3);
+}
+
+TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
+  // The upper plate on the left up to y = 20: its edge face there faces
+  // away from the sensor, and it hides the lower plate just beyond the edge.
+  tk::TrackerParams params;
+  params.lap.upper_thickness_mm = 3.0;
+  const auto p = synth::sample({{Vec2(-80, 96), Vec2(20, 96)}, {Vec2(20, 96), Vec2(20, 100)},
+                                {Vec2(20, 100), Vec2(80, 100)}});
+  const auto r = track(p, tk::JointType::Lap, params);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double tol = spacing_at(96.0) + 1e-3;
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < tol);
+  CHECK(r.step_mm == Approx(4.0).margin(1e-3));
+  CHECK(r.gap_mm == Approx(1.0).margin(1e-3));  // step 4 - thickness 3
+  CHECK(std::isnan(r.angle_deg));
+}
+
+TEST_CASE("tracker: no allocation after warm-up", "[tracker]") {
+  auto fillet = synth::sample(synth::valley(Vec2(0, 100), 90.0));
+  auto noisy = fillet;
+  for (int k = 0; k < 3; ++k) noisy.z[300 + k] -= 2.0f;
+  noisy.invalidate(100, 110);
+  tk::Tracker t;
+  tk::TrackResult r;
+  for (int i = 0; i < 3; ++i) {
+    t.track(fillet.view(), r);
+    t.track(noisy.view(), r);
+  }
+  const long before = g_allocations.load();
+  for (int i = 0; i < 10; ++i) {
+    t.track(fillet.view(), r);
+    t.track(noisy.view(), r);
+  }
+  CHECK(g_allocations.load() == before);
+  CHECK(r.status == tk::TrackStatus::Ok);
+}

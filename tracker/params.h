@@ -1,0 +1,132 @@
+#pragma once
+// Every tunable of the tracker, with the paper's values where the paper gives
+// one (Table 1) and documented choices elsewhere (docs/JOINTS.md). Fixed for a
+// run: Tracker reads them, never writes them.
+#include "tracker/types.h"
+
+namespace vts::tracker {
+
+// Closed interval [min, max]; a process value is accepted when it lies inside.
+struct Range {
+  double min = 0.0;
+  double max = 0.0;
+  bool contains(double v) const { return v >= min && v <= max; }
+};
+
+// Step 1: outlier elimination (the paper names the step, not the method).
+struct OutlierParams {
+  bool enabled = true;
+  // Longest run of consecutive points that can be removed as one cluster.
+  int max_cluster_points = 4;
+  // A run whose farthest point lies more than this off the line its
+  // neighbours define is an outlier cluster...
+  double threshold_mm = 0.3;
+  // ...provided support_points neighbours on each side lie within support_tol_mm
+  // of that one line (so a real corner, whose two sides do not share a line, is
+  // never removed).
+  int support_points = 3;
+  double support_tol_mm = 0.1;
+};
+
+// Steps 2 and 3: split and merge, the paper's Table 1 plus the rule that cuts
+// the profile at discontinuities before splitting.
+struct SegmentParams {
+  double split_threshold_mm = 0.4;  // t_split: split while d_max exceeds this
+  int split_interval = 2;           // s_int: d_max looks at every s_int-th point
+  int min_segment_points = 8;       // s_min: regions smaller than this are not split
+  int max_merge_gap_points = 10;    // g_max: merge across fewer missing columns than this
+  double max_merge_angle_deg = 15.0;  // alpha_merge: merge lines closer in angle than this
+  // Not in Table 1: merged neighbours must also be offset by less than this
+  // (or 3 rms of their fits, if larger; each one's facing end point from the
+  // other's line), or parallel plates with a small step (a butt joint's
+  // mismatch) would merge.
+  double max_merge_offset_mm = 0.2;
+  // A step between consecutive points is a jump (the profile is cut there
+  // before splitting) if it is longer than break_min_mm and longer than
+  // break_ratio times the shorter of its neighbouring steps. Runs of invalid
+  // columns always cut.
+  double break_min_mm = 0.3;
+  double break_ratio = 4.0;
+  // At a boundary between two segments a point moves to the neighbour whose
+  // line it fits better, if it lies within this (or 3 rms) of that line.
+  double fit_tol_mm = 0.02;
+};
+
+struct SegmentationParams {
+  OutlierParams outliers;
+  SegmentParams segments;
+  // Image-processing region: profile columns [roi_first, roi_last] are used;
+  // roi_last < 0 means up to the last column.
+  int roi_first = 0;
+  int roi_last = -1;
+  // The point every column ray passes through, sensor frame (mm). The vts
+  // sensor frame has the laser at the origin, so (0, 0). Used to place plate
+  // edges between two neighbouring columns' rays.
+  Vec2 ray_origin_yz = Vec2::Zero();
+};
+
+// Which of the two fillet plates is the web (the one whose edge may stand off
+// the other). Auto: the plate whose edge the profile shows standing off (the
+// other plate is seen beyond its line, through the gap); with no gap, the
+// second plate in scan order.
+enum class WebSide { Auto, First, Second };
+
+struct FilletParams {
+  Range angle_deg{45.0, 135.0};  // angle between the plates on the open side
+  Range gap_mm{0.0, 3.0};        // true gap: web edge to flange
+  WebSide web = WebSide::Auto;
+};
+
+struct CornerParams {
+  Range angle_deg{60.0, 170.0};  // angle between the outer faces through the material
+  Range gap_mm{0.0, 3.0};        // between the two plates' outer edges
+};
+
+struct LapParams {
+  Range step_mm{0.5, 30.0};      // upper plate's top edge above the lower plate
+  Range gap_mm{0.0, 3.0};        // upper plate lifted off the lower one
+  Range angle_deg{45.0, 135.0};  // upper plate's edge face against the lower plate
+  double max_plate_angle_deg = 15.0;  // the two plates must be this close to parallel
+  // Upper plate thickness if known (> 0): gives the gap from the step when the
+  // edge face is hidden. 0: unknown, gap not measured in that case.
+  double upper_thickness_mm = 0.0;
+};
+
+struct ButtParams {
+  Range gap_mm{0.0, 5.0};
+  Range mismatch_mm{0.0, 3.0};
+  double max_plate_angle_deg = 15.0;  // the two plates must be this close to parallel
+};
+
+struct VGrooveParams {
+  Range angle_deg{20.0, 120.0};  // included angle between the bevels
+  Range gap_mm{0.0, 5.0};        // root opening
+  Range mismatch_mm{0.0, 3.0};
+  Range depth_mm{0.5, 60.0};     // plate top to root (checked when the tops are seen)
+  // A bevel seen at a grazing angle has few points: bevels need only this
+  // many (the plate tops need SegmentParams::min_segment_points).
+  int min_bevel_points = 4;
+};
+
+struct TrackerParams {
+  JointType joint = JointType::Fillet;
+  SegmentationParams segmentation;
+  FilletParams fillet;
+  CornerParams corner;
+  LapParams lap;
+  ButtParams butt;
+  VGrooveParams vgroove;
+  // How far a point may lie off a fitted surface and still count as on it,
+  // and how far past a line a point must lie to count as beyond it (mm).
+  // Ideal profiles need little; set it from the sensor's resolution.
+  double surface_tol_mm = 0.02;
+  // Largest distance between the two plates' facing end points that can still
+  // be one joint (mm).
+  double max_joint_width_mm = 20.0;
+  // Plate edge faces (butt and lap edges, corner ends, v-groove root faces) are
+  // square to the plate surface: a single point seen on such a face fixes the
+  // edge exactly instead of only between two column rays.
+  bool square_edges = true;
+};
+
+}  // namespace vts::tracker

@@ -1,0 +1,555 @@
+#include "tracker/segmentation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+namespace vts::tracker {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// p lies farther than `limit` from the line through a and b (from a if they
+// coincide); no square root.
+[[gnu::always_inline]] inline bool beyond_chord(const Vec2& a, const Vec2& b, const Vec2& p, double limit) {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  if (len2 < 1e-24) return (p - a).squaredNorm() > limit * limit;
+  const double c = cross(d, p - a);
+  return c * c > limit * limit * len2;
+}
+
+// cut[j] = 1 where the profile is discontinuous between points j and j+1:
+// `gap(j)` says whether invalid columns lie between them; otherwise a jump is
+// a step longer than break_min_mm and break_ratio times the shorter
+// neighbouring step. steps2[j] holds the squared step from j to j+1.
+template <class Gap>
+void find_cuts(int n, const SegmentParams& sp, Gap gap, const Buffer<float>& steps2, Buffer<std::uint8_t>& cut) {
+  cut.resize(std::max(0, n - 1));
+  if (n < 2) return;
+  const float min2 = static_cast<float>(sp.break_min_mm * sp.break_min_mm);
+  const float ratio2 = static_cast<float>(sp.break_ratio * sp.break_ratio);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (int j = 0; j + 1 < n; ++j) {
+    const float d2 = steps2[j];
+    const float before = j > 0 ? steps2[j - 1] : inf;
+    const float after = j + 2 < n ? steps2[j + 1] : inf;
+    const float neighbour = std::min(before, after);
+    cut[j] = gap(j) | ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour)));
+  }
+}
+
+// find_cuts for the gathered points, where invalid columns lie between
+// points j and j+1 exactly when their columns are not adjacent. Written so
+// that the inner loop vectorises.
+void find_cuts_gathered(int n, const SegmentParams& sp, const int* cols, const Buffer<float>& steps2,
+                        Buffer<std::uint8_t>& cut) {
+  cut.resize(std::max(0, n - 1));
+  if (n < 2) return;
+  const float min2 = static_cast<float>(sp.break_min_mm * sp.break_min_mm);
+  const float ratio2 = static_cast<float>(sp.break_ratio * sp.break_ratio);
+  const float* st = steps2.data();
+  std::uint8_t* c = cut.data();
+  for (int j = 1; j + 2 < n; ++j) {
+    const float d2 = st[j], nb = std::min(st[j - 1], st[j + 1]);
+    c[j] = (cols[j + 1] - cols[j] != 1) | ((d2 > min2) & (d2 > ratio2 * nb));
+  }
+  // The ends have one neighbouring step (or none).
+  for (int j : {0, n - 2}) {
+    const float d2 = st[j];
+    float nb = std::numeric_limits<float>::infinity();
+    if (j > 0) nb = std::min(nb, st[j - 1]);
+    if (j + 2 < n) nb = std::min(nb, st[j + 1]);
+    c[j] = (cols[j + 1] - cols[j] != 1) | ((d2 > min2) & (std::isinf(nb) | (d2 > ratio2 * nb)));
+  }
+}
+
+// Last point of the run starting at r0: the first j >= r0 with cut[j] set, or n - 1.
+int run_end(const Buffer<std::uint8_t>& cut, int r0, int n) {
+  if (r0 >= n - 1) return n - 1;
+  const void* hit = std::memchr(cut.data() + r0, 1, static_cast<std::size_t>(n - 1 - r0));
+  return hit ? static_cast<int>(static_cast<const std::uint8_t*>(hit) - cut.data()) : n - 1;
+}
+
+// Marks outlier clusters in keep[] (1 keep, 0 outlier). See OutlierParams.
+// spike[j] != 0 where point j leaves the line through points j-2 and j-1 by
+// more than the threshold (or j < 2): only there can a cluster start.
+// Returns whether anything was removed.
+bool eliminate_outliers(const float* ys, const float* zs, int n, const Buffer<std::uint8_t>& cut,
+                        const Buffer<std::uint8_t>& spike, const OutlierParams& op, Buffer<std::uint8_t>& keep) {
+  auto raw = [&](int k) { return Vec2(ys[k], zs[k]); };
+  keep.assign(n, 1);
+  if (!op.enabled || n == 0) return false;
+  bool any = false;
+  const int max_cluster = std::max(1, op.max_cluster_points);
+  const int support = std::clamp(op.support_points, 1, 8);
+  for (int r0 = 0, r1; r0 < n; r0 = r1 + 1) {
+    r1 = run_end(cut, r0, n);
+    const int len = r1 - r0 + 1;
+    if (len <= max_cluster && len < n) {
+      // An island: a few points cut off from everything on both sides.
+      for (int k = r0; k <= r1; ++k) keep[k] = 0;
+      any = true;
+      continue;
+    }
+    // Inside a run: a cluster whose neighbours on both sides share one line.
+    // Kept points are contiguous from `clean` on; before[m] is the m-th last
+    // kept point before `clean` (n_before of them).
+    int clean = r0, before[9], n_before = 0;
+    auto back = [&](int j, int m) {  // m-th last kept point before j, or -1
+      if (j - 1 - m >= clean) return j - 1 - m;
+      const int b = m - (j - clean);
+      return b < n_before ? before[b] : -1;
+    };
+    int j = r0;
+    while (j <= r1) {
+      // Skip the points that continue the line of the two before them.
+      if (j >= clean + 2) {
+        const void* hit = std::memchr(spike.data() + j, 1, static_cast<std::size_t>(r1 - j + 1));
+        if (!hit) break;
+        j = static_cast<int>(static_cast<const std::uint8_t*>(hit) - spike.data());
+      }
+      const int b0 = back(j, 0), b1 = back(j, 1), bs = back(j, support);
+      bool removed = false;
+      if (bs >= 0 && beyond_chord(raw(b1), raw(b0), raw(j), op.threshold_mm)) {
+        const Vec2 a = raw(b0);
+        for (int l = 1; l <= max_cluster && !removed; ++l) {
+          const int e = j + l;  // first point after the cluster
+          if (e + support > r1) break;
+          const Vec2 b = raw(e);
+          bool supported = true;
+          for (int k = 1; k <= support && supported; ++k)
+            supported = !beyond_chord(a, b, raw(back(j, k)), op.support_tol_mm) &&
+                        !beyond_chord(a, b, raw(e + k), op.support_tol_mm);
+          if (!supported) continue;
+          bool off = false;
+          for (int k = j; k < e && !off; ++k) off = beyond_chord(a, b, raw(k), op.threshold_mm);
+          if (!off) continue;
+          for (int k = j; k < e; ++k) keep[k] = 0;
+          any = true;
+          int tmp[9];
+          for (int m = 0; m <= support; ++m) tmp[m] = back(j, m);
+          std::copy(tmp, tmp + support + 1, before);
+          n_before = support + 1;
+          clean = j = e;
+          removed = true;
+        }
+      }
+      if (!removed) ++j;
+    }
+  }
+  return any;
+}
+
+}  // namespace
+
+void Segmentation::clear() {
+  // points and cols keep their size: segment_profile resizes them, and
+  // shrinking them here would make it construct every element again.
+  cuts.clear();
+  outlier_points.clear();
+  outlier_cols.clear();
+  segments.clear();
+  column_state.clear();
+  valid_points = 0;
+  outliers = 0;
+  error.clear();
+}
+
+PointSums Segmentation::sums(int first, int last) const {
+  PointSums t;
+  const double ry = ref_.x(), rz = ref_.y();
+  double sy = 0.0, sz = 0.0, syy = 0.0, szz = 0.0, syz = 0.0;
+  for (int k = first; k <= last; ++k) {
+    const double dy = points[k].x() - ry, dz = points[k].y() - rz;
+    sy += dy;
+    sz += dz;
+    syy += dy * dy;
+    szz += dz * dz;
+    syz += dy * dz;
+  }
+  t.n = std::max(0, last - first + 1);
+  t.sy = sy, t.sz = sz, t.syy = syy, t.szz = szz, t.syz = syz;
+  return t;
+}
+
+Moments Segmentation::moments(const PointSums& t) const {
+  Moments m;
+  m.count = std::max(0, t.n);
+  if (m.count == 0) return m;
+  const double k = m.count;
+  m.mean = ref_ + Vec2(t.sy / k, t.sz / k);
+  m.syy = std::max(0.0, t.syy - t.sy * t.sy / k);
+  m.szz = std::max(0.0, t.szz - t.sz * t.sz / k);
+  m.syz = t.syz - t.sy * t.sz / k;
+  return m;
+}
+
+std::optional<LineFit> Segmentation::fit(const PointSums& t) const {
+  auto f = fit_line(moments(t));
+  if (f) f->line.orient_towards(origin_);
+  return f;
+}
+
+double Segmentation::column_tan(int col) const {
+  const int np = static_cast<int>(points.size());
+  if (np < 2 || col < roi_lo_ || col > roi_hi_) return kNaN;
+  auto tan_of = [&](int k) {
+    const Vec2 d = points[k] - origin_;
+    return d.x() / d.y();
+  };
+  // k: the last kept point at or before col.
+  int k = static_cast<int>(std::upper_bound(cols.begin(), cols.end(), col) - cols.begin()) - 1;
+  if (k >= 0 && cols[k] == col) return tan_of(k);
+  // Interpolate between kept points k and k + 1, or extrapolate from the end pair.
+  k = std::clamp(k, 0, np - 2);
+  const double ta = tan_of(k), tb = tan_of(k + 1);
+  return ta + (tb - ta) * (col - cols[k]) / (cols[k + 1] - cols[k]);
+}
+
+int Segmentation::invalid_columns_between(int a, int b) const {
+  if (b <= a + 1) return 0;
+  return static_cast<int>(std::count(column_state.begin() + a + 1, column_state.begin() + b, kColumnInvalid));
+}
+
+namespace {
+
+// Refits a segment from its sums (seg.sums must match [first, last]).
+void refit(const Segmentation& s, Segment& seg) {
+  seg.first_col = s.cols[seg.first];
+  seg.last_col = s.cols[seg.last];
+  const auto f = seg.count() >= 2 ? s.fit(seg.sums) : std::nullopt;
+  seg.fitted = f.has_value();
+  if (f) {
+    seg.line = f->line;
+    seg.rms_mm = f->rms_mm;
+    seg.centroid = f->centroid;
+  } else {
+    seg.rms_mm = 0.0;
+    seg.centroid = s.points[seg.first];
+  }
+}
+
+}  // namespace
+
+void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& s) {
+  s.clear();
+  const int n = static_cast<int>(profile.y_mm.size());
+  if (profile.z_mm.size() != profile.y_mm.size() ||
+      (!profile.valid.empty() && profile.valid.size() != profile.y_mm.size())) {
+    s.points.clear();
+    s.cols.clear();
+    s.error = "profile spans differ in length (y " + std::to_string(profile.y_mm.size()) + ", z " +
+              std::to_string(profile.z_mm.size()) + ", valid " + std::to_string(profile.valid.size()) + ")";
+    return;
+  }
+  const Vec2 origin = params.ray_origin_yz;
+  s.origin_ = origin;
+  s.column_state.assign(n, kColumnInvalid);
+  const int lo = std::max(0, params.roi_first);
+  const int hi = params.roi_last < 0 ? n - 1 : std::min(n - 1, params.roi_last);
+
+  // Gather the usable points (in the region, flagged valid, finite, in front
+  // of the origin) without branches, then the squared steps between them and
+  // where each leaves the line of the two before it, in float (only compared
+  // with thresholds) so that the loops vectorise. Buffers keep their capacity.
+  const int span = std::max(0, hi - lo + 1);
+  s.points.resize(span);
+  s.cols.resize(span + 1);
+  s.ys_.resize(span + 1);
+  s.zs_.resize(span + 1);
+  s.steps_.resize(span + 1);
+  s.spike_.resize(span + 1);
+  float* ys = s.ys_.data();
+  float* zs = s.zs_.data();
+  int* cols = s.cols.data();
+  const bool all_valid = profile.valid.empty();
+  const float z_min = static_cast<float>(origin.y());
+  constexpr float kMax = std::numeric_limits<float>::max();
+  // Usable flags in one vectorisable pass, then the branch-free compaction.
+  // Comparisons are false for NaN, so these also reject NaN and infinity.
+  s.usable_.resize(span + 1);
+  std::uint8_t* __restrict usable = s.usable_.data();
+  {
+    const float* __restrict py = profile.y_mm.data() + lo;
+    const float* __restrict pz = profile.z_mm.data() + lo;
+    for (int k = 0; k < span; ++k) {
+      const float yf = py[k], zf = pz[k];
+      usable[k] = (zf > z_min) & (zf <= kMax) & (yf >= -kMax) & (yf <= kMax);
+    }
+    if (!all_valid) {
+      const std::uint8_t* __restrict pv = profile.valid.data() + lo;
+      for (int k = 0; k < span; ++k) usable[k] &= pv[k] != 0;
+    }
+  }
+  std::memcpy(s.column_state.data() + lo, usable, static_cast<std::size_t>(span));  // kColumnKept == 1
+  int nv = 0;
+  for (int k = 0; k < span; ++k) {
+    ys[nv] = profile.y_mm[lo + k];
+    zs[nv] = profile.z_mm[lo + k];
+    cols[nv] = lo + k;
+    nv += usable[k];
+  }
+  s.valid_points = nv;
+  const int nvc = nv;  // a local copy: stores through uint8_t* could alias nv
+  float* __restrict steps2 = s.steps_.data();
+  std::uint8_t* __restrict spike = s.spike_.data();
+  const float* __restrict yr = ys;
+  const float* __restrict zr = zs;
+  for (int j = 0; j + 1 < nvc; ++j) {
+    const float dy = yr[j + 1] - yr[j], dz = zr[j + 1] - zr[j];
+    steps2[j] = dy * dy + dz * dz;
+  }
+  const float t2 = static_cast<float>(params.outliers.threshold_mm * params.outliers.threshold_mm);
+  for (int j = 0; j < std::min(nvc, 2); ++j) spike[j] = 1;
+  for (int j = 2; j < nvc; ++j) {
+    const float ey = yr[j - 1] - yr[j - 2], ez = zr[j - 1] - zr[j - 2];
+    const float dy = yr[j] - yr[j - 1], dz = zr[j] - zr[j - 1];
+    const float c = ey * dz - ez * dy, l2 = ey * ey + ez * ez;
+    spike[j] = (c * c > t2 * l2) | (l2 < 1e-20f);
+  }
+
+  // Step 1: outliers; then the kept points are compacted in place, with prefix
+  // sums for O(1) line fits (relative to the first point, for precision).
+  find_cuts_gathered(nv, params.segments, cols, s.steps_, s.cuts);
+  const bool removed = eliminate_outliers(ys, zs, nv, s.cuts, s.spike_, params.outliers, s.keep_);
+  Vec2* pts = s.points.data();
+  s.ref_ = nv > 0 ? Vec2(ys[0], zs[0]) : Vec2::Zero();
+  int np = 0;
+  if (removed) {
+    for (int k = 0; k < nv; ++k) {
+      if (!s.keep_[k]) {
+        s.column_state[cols[k]] = kColumnOutlier;
+        s.outlier_points.emplace_back(ys[k], zs[k]);
+        s.outlier_cols.push_back(cols[k]);
+        ++s.outliers;
+        continue;
+      }
+      pts[np] = Vec2(ys[k], zs[k]);
+      cols[np] = cols[k];
+      ++np;
+    }
+  } else {
+    for (int k = 0; k < nv; ++k) pts[k] = Vec2(ys[k], zs[k]);
+    np = nv;
+  }
+  s.points.resize(np);
+  s.cols.resize(np);
+  s.roi_lo_ = lo;
+  s.roi_hi_ = hi;
+
+  if (np == 0) return;
+
+  // Step 2: cut at discontinuities, then split each run recursively.
+  const SegmentParams& sp = params.segments;
+  // Without outliers the kept points are the gathered ones: their cuts stand.
+  if (s.outliers > 0) {
+    for (int j = 0; j + 1 < np; ++j) s.steps_[j] = static_cast<float>((s.points[j + 1] - s.points[j]).squaredNorm());
+    find_cuts(np, sp, [&](int j) { return s.invalid_columns_between(s.cols[j], s.cols[j + 1]) > 0; }, s.steps_,
+              s.cuts);
+  }
+  const int s_min = std::max(2, sp.min_segment_points);
+  const int s_int = std::max(1, sp.split_interval);
+  for (int r0 = 0, r1; r0 < np; r0 = r1 + 1) {
+    r1 = run_end(s.cuts, r0, np);
+    s.leaves_.clear();
+    s.stack_.clear();
+    s.stack_.emplace_back(r0, r1);
+    while (!s.stack_.empty()) {
+      const auto [a, b] = s.stack_.back();
+      s.stack_.pop_back();
+      int split_at = -1;
+      if (b - a + 1 >= s_min) {
+        const Vec2* pts = s.points.data();
+        const double ay = pts[a].x(), az = pts[a].y();
+        const double cy = pts[b].x() - ay, cz = pts[b].y() - az;
+        const double len = std::sqrt(cy * cy + cz * cz);
+        double worst = 0.0;
+        if (len > 1e-12) {
+          // Distance from the chord times its length: |chord x (p - a)|.
+          for (int k = a + s_int; k < b; k += s_int) {
+            const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
+            if (dist > worst) {
+              worst = dist;
+              split_at = k;
+            }
+          }
+          worst /= len;
+        } else {
+          for (int k = a + s_int; k < b; k += s_int) {
+            const double dist = (pts[k] - pts[a]).norm();
+            if (dist > worst) {
+              worst = dist;
+              split_at = k;
+            }
+          }
+        }
+        if (!(worst > sp.split_threshold_mm)) split_at = -1;
+      }
+      if (split_at < 0) {
+        s.leaves_.push_back(a);
+      } else {
+        s.stack_.emplace_back(split_at, b);
+        s.stack_.emplace_back(a, split_at);
+      }
+    }
+    // Leaves share their split points; each shared point starts the next segment.
+    for (std::size_t k = 0; k < s.leaves_.size(); ++k) {
+      Segment seg;
+      seg.first = s.leaves_[k];
+      seg.last = k + 1 < s.leaves_.size() ? s.leaves_[k + 1] - 1 : r1;
+      if (seg.last < seg.first) continue;
+      seg.sums = s.sums(seg.first, seg.last);
+      refit(s, seg);
+      s.segments.push_back(seg);
+    }
+  }
+
+  // Step 3: merge neighbours that are close in columns and in angle and still
+  // one line together: at the four end points (each part is straight), or, on
+  // noisy profiles, with a joint rms no worse than the parts' (1.5 x) and
+  // below half the split threshold. The offset test allows 3 rms of noise.
+  const double cos_merge = std::cos(sp.max_merge_angle_deg * 3.14159265358979323846 / 180.0);
+  // Whether a and c are one line, together with the `between_points` points
+  // between them (sums `between`: a short piece, every point of which must
+  // lie within t_split of the joint line).
+  auto mergeable = [&](const Segment& a, const Segment& c, const PointSums& between, int between_points) {
+    const double offset = std::max(sp.max_merge_offset_mm, 3.0 * std::max(a.rms_mm, c.rms_mm));
+    if (!a.fitted || !c.fitted || c.first_col - a.last_col - 1 - between_points >= sp.max_merge_gap_points ||
+        std::abs(a.line.n.dot(c.line.n)) <= cos_merge || a.line.distance(s.points[c.first]) >= offset ||
+        c.line.distance(s.points[a.last]) >= offset)
+      return false;
+    PointSums all = a.sums;
+    all += between;
+    all += c.sums;
+    const auto f = s.fit(all);
+    if (!f) return false;
+    for (int k = a.last + 1; k < c.first; ++k)
+      if (f->line.distance(s.points[k]) > sp.split_threshold_mm) return false;
+    bool ends = true;
+    for (int k : {a.first, a.last, c.first, c.last}) ends = ends && f->line.distance(s.points[k]) <= sp.split_threshold_mm;
+    return ends ||
+           (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm);
+  };
+  for (std::size_t i = 0; i + 1 < s.segments.size();) {
+    Segment& a = s.segments[i];
+    const Segment& b = s.segments[i + 1];
+    if (mergeable(a, b, PointSums{}, 0)) {
+      a.last = b.last;
+      a.sums += b.sums;
+      refit(s, a);
+      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      continue;
+    }
+    // A piece shorter than s_min between two parts of one line (noise near
+    // the split threshold cuts a plate like this) joins them.
+    if (b.count() < s_min && i + 2 < s.segments.size() && mergeable(a, s.segments[i + 2], b.sums, b.count())) {
+      const Segment& c = s.segments[i + 2];
+      a.last = c.last;
+      a.sums += b.sums;
+      a.sums += c.sums;
+      refit(s, a);
+      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                       s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 3);
+      continue;
+    }
+    ++i;
+  }
+
+  // Boundary points go to the neighbouring line they fit better (split points
+  // are shared and every other point is skipped with s_int = 2, so the point
+  // at a corner may sit on the wrong side).
+  for (std::size_t i = 0; i + 1 < s.segments.size();) {
+    Segment& a = s.segments[i];
+    Segment& b = s.segments[i + 1];
+    // Not across missing columns: there the two sides are separate anyway.
+    const bool joined = s.invalid_columns_between(a.last_col, b.first_col) == 0;
+    for (int iter = 0; joined && iter < 3 && a.count() > 0 && b.count() > 0; ++iter) {
+      bool moved = false;
+      if (a.fitted) {
+        const Vec2& p = s.points[b.first];
+        const double da = a.line.distance(p);
+        const double db = b.count() >= 3 && b.fitted ? b.line.distance(p) : kInf;
+        if (da <= std::max(sp.fit_tol_mm, 3.0 * a.rms_mm) && 2.0 * da + 1e-9 < db) {
+          a.sums.add(p - s.ref_);
+          b.sums.add(p - s.ref_, -1.0);
+          ++a.last;
+          ++b.first;
+          moved = true;
+        }
+      }
+      if (!moved && b.fitted) {
+        const Vec2& p = s.points[a.last];
+        const double db = b.line.distance(p);
+        const double da = a.count() >= 3 && a.fitted ? a.line.distance(p) : kInf;
+        if (db <= std::max(sp.fit_tol_mm, 3.0 * b.rms_mm) && 2.0 * db + 1e-9 < da) {
+          b.sums.add(p - s.ref_);
+          a.sums.add(p - s.ref_, -1.0);
+          --a.last;
+          --b.first;
+          moved = true;
+        }
+      }
+      if (!moved) break;
+      if (a.count() > 0) refit(s, a);
+      if (b.count() > 0) refit(s, b);
+    }
+    // A segment emptied by the moves disappears; look at the new pair again.
+    if (b.count() <= 0) {
+      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+    } else if (a.count() <= 0) {
+      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i));
+      if (i > 0) --i;
+    } else {
+      ++i;
+    }
+  }
+
+  // End points that sit off their segment's line (a corner sample, a few
+  // points of a short face) are detached as single points: the segment is
+  // fitted without its last three points on that end, and from the inside out
+  // the first of them farther than max(fit_tol_mm, 4 rms) from that line is
+  // detached with everything beyond it.
+  for (std::size_t i = 0; i < s.segments.size(); ++i) {
+    for (int end = 0; end < 2; ++end) {
+      Segment& sg = s.segments[i];
+      const int m = std::min(3, sg.count() - s_min);
+      if (m <= 0) continue;
+      PointSums core_sums = sg.sums;
+      for (int k = 0; k < m; ++k) core_sums.add(s.points[end == 0 ? sg.first + k : sg.last - k] - s.ref_, -1.0);
+      const auto core = s.fit(core_sums);
+      if (!core) continue;
+      const double tol = std::max(sp.fit_tol_mm, 4.0 * core->rms_mm);
+      int detach = 0;
+      for (int k = m; k >= 1; --k) {
+        const int p = end == 0 ? sg.first + k - 1 : sg.last - k + 1;
+        if (core->line.distance(s.points[p]) > tol) {
+          detach = k;
+          break;
+        }
+      }
+      if (detach == 0) continue;
+      const int first = end == 0 ? sg.first : sg.last - detach + 1;
+      for (int k = first; k < first + detach; ++k) sg.sums.add(s.points[k] - s.ref_, -1.0);
+      if (end == 0) sg.first += detach;
+      else sg.last -= detach;
+      refit(s, sg);
+      const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(i) + (end == 0 ? 0 : 1);
+      for (int k = detach - 1; k >= 0; --k) {
+        Segment lone;
+        lone.first = lone.last = first + k;
+        lone.sums = s.sums(lone.first, lone.last);
+        refit(s, lone);
+        s.segments.insert(s.segments.begin() + at, lone);
+      }
+      if (end == 0) i += detach;
+    }
+  }
+}
+
+}  // namespace vts::tracker

@@ -1,0 +1,129 @@
+#pragma once
+// Steps 1 to 4 of the paper's Figure 4: outlier elimination, recursive split,
+// merge, and a least-squares line per segment.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "tracker/geometry.h"
+#include "tracker/params.h"
+
+namespace vts::tracker {
+
+// An allocator that default-initialises instead of value-initialising, so that
+// resize() on the reused buffers costs nothing per element.
+template <class T, class A = std::allocator<T>>
+struct DefaultInitAllocator : A {
+  using A::A;
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U, typename std::allocator_traits<A>::template rebind_alloc<U>>;
+  };
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    std::allocator_traits<A>::construct(static_cast<A&>(*this), p, std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using Buffer = std::vector<T, DefaultInitAllocator<T>>;
+
+// Sums over a set of points, relative to a reference point (for precision):
+// adding, removing and combining sets is O(1).
+struct PointSums {
+  int n = 0;
+  double sy = 0.0, sz = 0.0, syy = 0.0, szz = 0.0, syz = 0.0;
+
+  void add(const Vec2& d, double sign = 1.0) {
+    n += sign > 0.0 ? 1 : -1;
+    sy += sign * d.x();
+    sz += sign * d.y();
+    syy += sign * d.x() * d.x();
+    szz += sign * d.y() * d.y();
+    syz += sign * d.x() * d.y();
+  }
+  PointSums& operator+=(const PointSums& o) {
+    n += o.n;
+    sy += o.sy, sz += o.sz, syy += o.syy, szz += o.szz, syz += o.syz;
+    return *this;
+  }
+};
+
+// A run of consecutive kept points lying on one line.
+struct Segment {
+  int first = 0;      // index of its first point in Segmentation::points
+  int last = 0;       // index of its last point (inclusive)
+  int first_col = 0;  // profile index (column) of the first point
+  int last_col = 0;   // profile index of the last point
+  Line line;          // total least-squares fit, normal towards the sensor
+  double rms_mm = 0.0;
+  Vec2 centroid = Vec2::Zero();
+  bool fitted = false;  // false for a single point (no line)
+  PointSums sums;       // of its points relative to Segmentation's reference point
+
+  int count() const { return last - first + 1; }
+};
+
+// Column states in Segmentation::column_state.
+enum : std::uint8_t { kColumnInvalid = 0, kColumnKept = 1, kColumnOutlier = 2 };
+
+// The result of steps 1 to 4, reused between profiles (clear() keeps the
+// buffers, so after the first profiles nothing is allocated).
+struct Segmentation {
+  // Kept points (valid and not outliers) in scan order, sensor frame (mm),
+  // and the profile column each came from.
+  Buffer<Vec2> points;
+  Buffer<int> cols;
+  // cuts[j] = 1 where the profile is discontinuous between points j and j+1
+  // (invalid columns between them, or a jump: SegmentParams::break_*).
+  Buffer<std::uint8_t> cuts;
+  // Points removed by step 1 and their columns, in scan order.
+  std::vector<Vec2> outlier_points;
+  std::vector<int> outlier_cols;
+  // Segments after split, merge and boundary refinement, in scan order.
+  std::vector<Segment> segments;
+  // Per profile column: kColumnInvalid, kColumnKept or kColumnOutlier.
+  std::vector<std::uint8_t> column_state;
+  // Tangent of profile column `col`'s ray about the ray origin, (y - y0) /
+  // (z - z0): measured where the column has a kept point, else linear in the
+  // column index between (or beyond) the nearest kept columns. NaN with fewer
+  // than two kept points or outside the region of interest.
+  double column_tan(int col) const;
+  int valid_points = 0;  // usable points before outlier elimination
+  int outliers = 0;
+  std::string error;     // set when the input itself is malformed
+
+  // Sums, moments and line fit (normal towards the sensor) of points
+  // [first, last]; O(last - first).
+  PointSums sums(int first, int last) const;
+  Moments moments(const PointSums& sums) const;
+  Moments moments(int first, int last) const { return moments(sums(first, last)); }
+  std::optional<LineFit> fit(const PointSums& sums) const;
+  std::optional<LineFit> fit(int first, int last) const { return fit(sums(first, last)); }
+  // Number of invalid columns strictly between columns a < b.
+  int invalid_columns_between(int a, int b) const;
+
+  // Resets the counts and lists; points and cols are left to segment_profile.
+  void clear();
+
+  // Scratch, kept for reuse.
+  Vec2 ref_ = Vec2::Zero();
+  Vec2 origin_ = Vec2::Zero();
+  int roi_lo_ = 0, roi_hi_ = -1;
+  Buffer<std::uint8_t> keep_, spike_, usable_;
+  Buffer<float> ys_, zs_, steps_;
+  std::vector<std::pair<int, int>> stack_;
+  std::vector<int> leaves_;
+};
+
+// Runs steps 1 to 4 on one profile. `out` is overwritten; its buffers are
+// reused. Malformed input (spans of different lengths) sets out.error and
+// leaves no points.
+void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& out);
+
+}  // namespace vts::tracker

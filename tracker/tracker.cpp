@@ -1,0 +1,753 @@
+#include "tracker/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <numbers>
+#include <span>
+
+namespace vts::tracker {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Most points a butt gap's walls can show inside one merged segment.
+constexpr int kMaxWallPoints = 16;
+
+struct JointName {
+  JointType type;
+  std::string_view name;
+};
+constexpr JointName kJointNames[] = {{JointType::Fillet, "fillet"},
+                                     {JointType::Corner, "corner"},
+                                     {JointType::Lap, "lap"},
+                                     {JointType::Butt, "butt"},
+                                     {JointType::VGroove, "vgroove"}};
+
+// Break point names per joint (docs/JOINTS.md).
+constexpr std::string_view kBreakNames[5][kMaxBreakPoints] = {
+    // Fillet
+    {"flange outer end", "root", "flange end seen under the web", "web edge", "web outer end", "", "", ""},
+    // Corner
+    {"first face outer end", "first plate edge", "apex of the outer faces", "second plate edge",
+     "second face outer end", "", "", ""},
+    // Lap
+    {"lower plate outer end", "foot of the step", "upper plate bottom edge", "upper plate top edge",
+     "upper plate outer end", "", "", ""},
+    // Butt
+    {"first plate outer end", "first plate edge", "gap centre", "second plate edge", "second plate outer end", "",
+     "", ""},
+    // VGroove
+    {"first top outer end", "first top edge", "first root edge", "root centre", "second root edge",
+     "second top edge", "second top outer end", ""},
+};
+
+// A plate: a run of kept points [first, last] and its fitted line.
+struct Plate {
+  int first = 0;
+  int last = 0;
+  Line line;
+  Vec2 centroid = Vec2::Zero();
+  int count() const { return last - first + 1; }
+};
+
+// A plate edge: an estimate and half the interval it can lie in.
+struct Edge {
+  Vec2 point = Vec2::Zero();
+  double half_width_mm = 0.0;
+};
+
+// One way of reading the profile as the configured joint.
+struct Candidate {
+  std::array<std::optional<Vec2>, kMaxBreakPoints> bp;
+  std::optional<Vec2> track;
+  double gap = kNaN, gap_paper = kNaN, angle = kNaN, mismatch = kNaN, step = kNaN, depth = kNaN, area = kNaN;
+  double edge_unc = 0.0;
+  double score = 0.0;
+  bool accepted = false;
+  char reason[160] = {};
+};
+
+bool better(const Candidate& a, const Candidate& b) {
+  if (a.accepted != b.accepted) return a.accepted;
+  return a.score > b.score;
+}
+
+// Appends "<name> <value> <unit> outside [min, max]" if v is measured and out of range.
+bool check(Candidate& c, const char* name, double v, const Range& r, const char* unit) {
+  if (std::isnan(v) || r.contains(v)) return true;
+  std::snprintf(c.reason, sizeof c.reason, "%s %.3g %s outside [%g, %g]", name, v, unit, r.min, r.max);
+  return false;
+}
+
+class Matcher {
+ public:
+  Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
+          std::vector<int>& bevels)
+      : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), origin_(p.segmentation.ray_origin_yz),
+        tol_(p.surface_tol_mm) {}
+
+  // Fills `best` with the best candidate; returns false if there is none.
+  bool run(JointType joint, Candidate& best) {
+    found_ = false;
+    best_ = &best;
+    switch (joint) {
+      case JointType::Fillet: fillet(); break;
+      case JointType::Corner: corner(); break;
+      case JointType::Lap: lap(); break;
+      case JointType::Butt: butt(); break;
+      case JointType::VGroove: vgroove(); break;
+    }
+    return found_;
+  }
+
+ private:
+  const Segmentation& s_;
+  const TrackerParams& p_;
+  const std::vector<int>& longs_;
+  std::vector<Vec2>& scratch_;
+  std::vector<int>& bevels_;
+  Vec2 origin_;
+  double tol_;
+  Candidate* best_ = nullptr;
+  bool found_ = false;
+
+  const Vec2& pt(int i) const { return s_.points[i]; }
+  const Segment& seg(int q) const { return s_.segments[longs_[q]]; }
+  int n_long() const { return static_cast<int>(longs_.size()); }
+
+  void offer(const Candidate& c) {
+    if (!found_ || better(c, *best_)) *best_ = c;
+    found_ = true;
+  }
+
+  static Plate plate_of(const Segment& sg) { return Plate{sg.first, sg.last, sg.line, sg.centroid}; }
+  std::optional<Plate> plate_of(int first, int last) const {
+    const auto f = s_.fit(first, last);
+    if (!f) return std::nullopt;
+    return Plate{first, last, f->line, f->centroid};
+  }
+
+  // The facing end points of two plates are close enough to be one joint.
+  bool near_enough(const Plate& a, const Plate& b) const {
+    return (pt(b.first) - pt(a.last)).norm() <= p_.max_joint_width_mm;
+  }
+
+  // Where column `col`'s ray meets line l.
+  std::optional<Vec2> ray_hit(int col, const Line& l) const {
+    const double t = s_.column_tan(col);
+    if (!std::isfinite(t)) return std::nullopt;
+    const Vec2 d(t, 1.0);
+    const double den = l.n.dot(d);
+    if (std::abs(den) < 1e-12) return std::nullopt;
+    const double u = (l.c - l.n.dot(origin_)) / den;
+    if (!(u > 0.0)) return std::nullopt;
+    return origin_ + u * d;
+  }
+
+  // X lies between the rays of columns a and b (seen from the ray origin).
+  bool between_rays(const Vec2& x, int a, int b) const {
+    const double dz = x.y() - origin_.y();
+    if (!(dz > 0.0)) return false;
+    const double t = (x.x() - origin_.x()) / dz;
+    const double ta = s_.column_tan(a), tb = s_.column_tan(b);
+    const double slack = 1e-9 + 1e-6 * std::abs(tb - ta);
+    return t >= std::min(ta, tb) - slack && t <= std::max(ta, tb) + slack;
+  }
+
+  // Along the plate's line, away from its centroid, at `end`.
+  static Vec2 outward(const Plate& pl, const Vec2& end) {
+    Vec2 d = pl.line.direction();
+    return d.dot(end - pl.centroid) < 0.0 ? Vec2(-d) : d;
+  }
+
+  // The edge of a plate at its end point `end_index`: between that point and
+  // where the ray of column `beyond_col` (which did not hit the plate) meets
+  // the plate's line. If square_edges and a point of [from, to] lies on the
+  // edge face (behind the plate, on a line along face_dir that meets the plate
+  // inside that interval), the edge is where that face meets the plate.
+  Edge edge(const Plate& pl, int end_index, int beyond_col, const Vec2* face_dir, std::span<const Vec2> faces,
+            std::span<const Vec2> more_faces = {}) const {
+    const Vec2 near = pl.line.project(pt(end_index));
+    const Vec2 dir = outward(pl, near);
+    Vec2 far = near;
+    if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0) far = *x;
+    const double width = (far - near).dot(dir);
+    if (face_dir && p_.square_edges) {
+      Vec2 sum = Vec2::Zero();
+      int k = 0;
+      const double den = pl.line.n.dot(*face_dir);
+      for (const auto span : {faces, more_faces}) {
+        for (const Vec2& q : span) {
+          if (pl.line.signed_distance(q) > -tol_ || std::abs(den) < 0.2) continue;  // not behind the plate
+          const Vec2 f = q + (pl.line.c - pl.line.n.dot(q)) / den * *face_dir;
+          const double a = (f - near).dot(dir);
+          if (a < -tol_ || a > width + tol_) continue;
+          sum += f;
+          ++k;
+        }
+      }
+      if (k > 0) return Edge{sum / k, 0.0};
+    }
+    return Edge{0.5 * (near + far), 0.5 * width};
+  }
+
+  // Kept points [from, to] (empty if from > to).
+  std::span<const Vec2> span_of(int from, int to) const {
+    if (from > to) return {};
+    return {s_.points.data() + from, static_cast<std::size_t>(to - from + 1)};
+  }
+  // Points removed as outliers strictly between columns a and b.
+  std::span<const Vec2> outliers_between(int a, int b) const {
+    const auto lo = std::upper_bound(s_.outlier_cols.begin(), s_.outlier_cols.end(), a);
+    const auto hi = std::lower_bound(lo, s_.outlier_cols.end(), b);
+    return {s_.outlier_points.data() + (lo - s_.outlier_cols.begin()), static_cast<std::size_t>(hi - lo)};
+  }
+
+  // Outer end of a plate: its far end point on its line.
+  static std::optional<Vec2> outer(const Plate& pl, const Vec2& p) { return pl.line.project(p); }
+
+  // Consecutive long segments q, q+1 as plates, with their lines' intersection
+  // and the directions from it to each plate.
+  struct Pair {
+    Plate a, b;
+    Vec2 x;
+    Vec2 ua, ub;
+    bool valley;          // the open side faces the sensor (inside corner)
+    bool trimmed = false;  // end points past x were dropped (see trimmed())
+  };
+  // Segments i and j (indices into the segment list) as a pair of plates.
+  std::optional<Pair> pair_of(int i, int j) const {
+    const Segment& si = s_.segments[i];
+    const Segment& sj = s_.segments[j];
+    Pair pr{plate_of(si), plate_of(sj), Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
+    if (!near_enough(pr.a, pr.b)) return std::nullopt;
+    const auto x = intersect(pr.a.line, pr.b.line, std::sin(5.0 * kDeg));
+    if (!x) return std::nullopt;
+    pr.x = *x;
+    pr.ua = (pr.a.centroid - pr.x).normalized();
+    pr.ub = (pr.b.centroid - pr.x).normalized();
+    pr.valley = (pr.ua + pr.ub).dot(origin_ - pr.x) > 0.0;
+    return pr;
+  }
+  std::optional<Pair> pair(int q) const { return pair_of(longs_[q], longs_[q + 1]); }
+
+  // Some point of [from, to] lies off both lines (more than the tolerance).
+  bool off_both(int from, int to, const Line& a, const Line& b) const {
+    for (int i = from; i <= to; ++i)
+      if (a.distance(pt(i)) > tol_ && b.distance(pt(i)) > tol_) return true;
+    return false;
+  }
+
+  // Point `end` of plate `a` lies beyond line `l`: on the other side of it from
+  // a's centroid, by more than the surface tolerance.
+  bool beyond(const Plate& a, int end, const Line& l) const {
+    const double c = l.signed_distance(a.centroid), e = l.signed_distance(pt(end));
+    return std::abs(e) > tol_ && (c > 0.0) != (e > 0.0);
+  }
+
+  void fillet() {
+    const FilletParams& fp = p_.fillet;
+    for (int q = 0; q + 1 < n_long(); ++q) {
+      const auto pr = pair(q);
+      if (!pr || !pr->valley) continue;
+      const Plate& a = pr->a;
+      const Plate& b = pr->b;
+      // A gap shows as the flange seen beyond the web's line, under its edge.
+      const bool a_past = beyond(a, a.last, b.line);
+      const bool b_past = beyond(b, b.first, a.line);
+      bool web_is_b = true;
+      if (fp.web == WebSide::First) web_is_b = false;
+      else if (fp.web == WebSide::Auto) web_is_b = a_past || !b_past;
+      const Plate& flange = web_is_b ? a : b;
+      const Plate& web = web_is_b ? b : a;
+      const int f_end = web_is_b ? a.last : b.first, f_out = web_is_b ? a.first : b.last;
+      const int w_end = web_is_b ? b.first : a.last, w_out = web_is_b ? b.last : a.first;
+      const bool gap_seen = web_is_b ? a_past : b_past;
+
+      Candidate c;
+      c.angle = angle_between_deg(pr->ua, pr->ub);
+      c.track = pr->x;
+      c.bp[0] = outer(flange, pt(f_out));
+      c.bp[1] = pr->x;
+      c.bp[4] = outer(web, pt(w_out));
+      if (gap_seen) {
+        // The web's edge lies between its last point and the ray of the last
+        // flange point, which passed under it.
+        const Vec2 near = web.line.project(pt(w_end));
+        Vec2 toe = near;
+        if (const auto far = ray_hit(s_.cols[f_end], web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
+          toe = 0.5 * (near + *far);
+          c.edge_unc = 0.5 * (*far - near).norm();
+        }
+        c.gap = flange.line.distance(toe);
+        c.gap_paper = flange.line.distance(near);
+        c.bp[2] = flange.line.project(pt(f_end));
+        c.bp[3] = toe;
+      } else {
+        c.gap = 0.0;
+        c.gap_paper = 0.0;
+        c.bp[2] = pr->x;
+        c.bp[3] = pr->x;
+      }
+      c.score = std::min(a.count(), b.count());
+      c.accepted = check(c, "angle", c.angle, fp.angle_deg, "deg") && check(c, "gap", c.gap, fp.gap_mm, "mm");
+      offer(c);
+    }
+  }
+
+  void corner() {
+    const CornerParams& cp = p_.corner;
+    for (int q = 0; q + 1 < n_long(); ++q) {
+      auto pr = pair(q);
+      if (!pr || pr->valley) continue;
+      pr = trimmed(*pr);
+      if (!pr || pr->valley) continue;
+      const Plate& a = pr->a;
+      const Plate& b = pr->b;
+      const int from = a.last + 1, to = b.first - 1;
+      Candidate c;
+      Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+      // Faces that meet between two neighbouring rays (or in a run of
+      // invalid columns) are one sharp edge: missing points are no gap.
+      if (pr->trimmed || off_both(from, to, a.line, b.line) ||
+          !between_rays(pr->x, s_.cols[a.last], s_.cols[b.first])) {
+        el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to));
+        er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to));
+      }
+      c.angle = angle_between_deg(pr->ua, pr->ub);
+      c.gap = (er.point - el.point).norm();
+      c.edge_unc = el.half_width_mm + er.half_width_mm;
+      c.track = 0.5 * (el.point + er.point);
+      c.bp[0] = outer(a, pt(a.first));
+      c.bp[1] = el.point;
+      c.bp[2] = pr->x;
+      c.bp[3] = er.point;
+      c.bp[4] = outer(b, pt(b.last));
+      c.score = std::min(a.count(), b.count());
+      c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
+      offer(c);
+    }
+  }
+
+  void lap() {
+    const LapParams& lp = p_.lap;
+    for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
+      // The edge face may itself be a long segment between the plates.
+      for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
+        const Plate a = plate_of(seg(q1)), b = plate_of(seg(q2));
+        if (!near_enough(a, b) || acute_angle_deg(a.line, b.line) > lp.max_plate_angle_deg) continue;
+        bool upper_is_b;
+        if (a.line.signed_distance(pt(b.first)) > tol_) upper_is_b = true;
+        else if (b.line.signed_distance(pt(a.last)) > tol_) upper_is_b = false;
+        else continue;
+        const Plate& lower = upper_is_b ? a : b;
+        const Plate& upper = upper_is_b ? b : a;
+        const int l_end = upper_is_b ? a.last : b.first, l_out = upper_is_b ? a.first : b.last;
+        const int u_end = upper_is_b ? b.first : a.last, u_out = upper_is_b ? b.last : a.first;
+        const int from = a.last + 1, to = b.first - 1;
+
+        // Points on the edge face: between the plates and on neither.
+        scratch_.clear();
+        for (int i = from; i <= to; ++i)
+          if (lower.line.distance(pt(i)) > tol_ && upper.line.distance(pt(i)) > tol_) scratch_.push_back(pt(i));
+
+        Candidate c;
+        Vec2 top, foot;
+        std::optional<Vec2> bottom;
+        std::optional<LineFit> wall;
+        if (scratch_.size() >= 3) wall = fit_line(scratch_);
+        std::optional<Vec2> wf, wt;
+        if (wall) {
+          wall->line.orient_towards(origin_);
+          wf = intersect(wall->line, lower.line, std::sin(20.0 * kDeg));
+          wt = intersect(wall->line, upper.line, std::sin(20.0 * kDeg));
+        }
+        if (wf && wt) {
+          const Line& wl = wall->line;
+          foot = *wf;
+          top = *wt;
+          c.angle = angle_between_deg(lower.centroid - foot, top - foot);
+          // A gap shows as the lower plate seen beyond the face's line.
+          const Plate wp{0, 0, wl, wall->centroid};
+          if (beyond(lower, l_end, wl)) {
+            const Vec2& w_low = upper_is_b ? scratch_.front() : scratch_.back();
+            const Vec2 near = wl.project(w_low);
+            Vec2 b_edge = near;
+            if (const auto far = ray_hit(s_.cols[l_end], wl); far && (*far - near).dot(outward(wp, near)) > 0.0) {
+              b_edge = 0.5 * (near + *far);
+              c.edge_unc = 0.5 * (*far - near).norm();
+            }
+            bottom = b_edge;
+            c.gap = lower.line.distance(b_edge);
+          } else {
+            bottom = foot;
+            c.gap = 0.0;
+          }
+        } else {
+          // Edge face hidden or too short to fit: the top edge lies between
+          // the upper plate's end and the next ray; the face is square to it.
+          const int beyond_col = upper_is_b ? s_.cols[u_end] - 1 : s_.cols[u_end] + 1;
+          const Edge e = edge(upper, u_end, beyond_col, &upper.line.n, span_of(from, to));
+          top = e.point;
+          c.edge_unc = e.half_width_mm;
+          foot = lower.line.project(top);
+          if (lp.upper_thickness_mm > 0.0) {
+            bottom = top - lp.upper_thickness_mm * upper.line.n;
+            c.gap = lower.line.signed_distance(*bottom);
+            if (c.gap < 0.0 && c.gap > -tol_) c.gap = 0.0;
+          }
+        }
+        c.step = lower.line.distance(top);
+        c.track = foot;
+        c.bp[0] = outer(lower, pt(l_out));
+        c.bp[1] = foot;
+        c.bp[2] = bottom;
+        c.bp[3] = top;
+        c.bp[4] = outer(upper, pt(u_out));
+        c.score = std::min(a.count(), b.count());
+        c.accepted = check(c, "step", c.step, lp.step_mm, "mm") && check(c, "gap", c.gap, lp.gap_mm, "mm") &&
+                     check(c, "angle", c.angle, lp.angle_deg, "deg");
+        offer(c);
+      }
+    }
+  }
+
+  // `strong`: invalid columns or a jump separate the plates (rather than only
+  // points off their lines, which noise can fake); such readings rank first.
+  void butt_pair(const Plate& a, const Plate& b, int from, int to, bool strong) {
+    const ButtParams& bp = p_.butt;
+    if (acute_angle_deg(a.line, b.line) > bp.max_plate_angle_deg) return;
+    // Points removed as outliers between the plates may be the gap's walls.
+    const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
+    const Edge el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to), removed);
+    const Edge er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to), removed);
+    const bool b_higher = a.line.signed_distance(er.point) > 0.0;
+    const Plate& lower = b_higher ? a : b;
+    const Vec2& high_edge = b_higher ? er.point : el.point;
+    Candidate c;
+    c.mismatch = lower.line.distance(high_edge);
+    c.gap = std::abs((er.point - el.point).dot(lower.line.direction()));
+    c.angle = angle_between_deg(a.centroid - el.point, b.centroid - er.point);
+    c.edge_unc = el.half_width_mm + er.half_width_mm;
+    c.track = lower.line.project(0.5 * (el.point + er.point));
+    c.bp[0] = outer(a, pt(a.first));
+    c.bp[1] = el.point;
+    c.bp[2] = c.track;
+    c.bp[3] = er.point;
+    c.bp[4] = outer(b, pt(b.last));
+    c.score = (strong ? 1e6 : 0.0) + c.gap + c.mismatch;
+    c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
+    offer(c);
+  }
+
+  void butt() {
+    const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
+    // Two plates in neighbouring long segments (or with one between them, an
+    // edge face) with something between them...
+    for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
+      for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
+        const Plate a = plate_of(seg(q1)), b = plate_of(seg(q2));
+        if (!near_enough(a, b)) continue;
+        // Something between them off both lines (walls in the gap), missing
+        // columns, or a jump; a few noisy points on the plates' line are not a gap.
+        bool strong = s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) > 0;
+        for (int k = a.last; k < b.first && !strong; ++k) strong = s_.cuts[k];
+        if (strong || off_both(a.last + 1, b.first - 1, a.line, b.line))
+          butt_pair(a, b, a.last + 1, b.first - 1, strong);
+      }
+    }
+    // ...or one segment with a hole or a step in it (plates merged across the
+    // gap). A hole: a cut (invalid columns, a jump) or points removed as
+    // outliers behind the plate (rays that went into the gap). A step: the
+    // next point leaves the line of the s_min points before it, and a few
+    // points later a straight run of s_min points starts, parallel to it,
+    // with every point between off both lines (the gap's walls).
+    for (int q = 0; q < n_long(); ++q) {
+      const Segment& sg = seg(q);
+      // All points on one line: only cuts and missing columns can be holes.
+      const bool straight = sg.rms_mm <= 0.25 * tol_;
+      if (straight && sg.last_col - sg.first_col == sg.count() - 1 &&
+          !std::memchr(s_.cuts.data() + sg.first, 1, static_cast<std::size_t>(sg.count() - 1)))
+        continue;  // no missing column, no jump: nothing to split at
+      for (int k = sg.first + s_min - 1; k <= sg.last - s_min; ++k) {
+        if (straight && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
+        // Cheap test first: does the next point continue the chord before it?
+        const Vec2& pk = pt(k);
+        const Vec2 chord = pk - pt(k - s_min + 1), step = pt(k + 1) - pk;
+        const double c = chord.x() * step.y() - chord.y() * step.x();
+        const bool departs = c * c > tol_ * tol_ * chord.squaredNorm();
+        if (!departs && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
+        const auto local = s_.fit(k - s_min + 1, k);
+        if (!local) continue;
+        bool hole = s_.cuts[k];
+        if (!hole && s_.cols[k + 1] > s_.cols[k] + 1)
+          for (const Vec2& o : outliers_between(s_.cols[k], s_.cols[k + 1]))
+            hole = hole || local->line.signed_distance(o) < -tol_;
+        int e = k + 1;  // first point of the second plate
+        if (!hole) {
+          if (local->line.distance(pt(k + 1)) <= tol_) continue;
+          for (e = k + 1; e <= std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1); ++e) {
+            const auto next = s_.fit(e, e + s_min - 1);
+            if (!next || next->rms_mm > 0.5 * tol_ ||
+                acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg ||
+                next->line.distance(pt(k)) <= tol_)
+              continue;
+            bool walls = true;
+            for (int i = k + 1; i < e && walls; ++i)
+              walls = local->line.distance(pt(i)) > tol_ && next->line.distance(pt(i)) > tol_;
+            if (walls) {
+              hole = true;
+              break;
+            }
+          }
+        }
+        if (!hole) continue;
+        const auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
+        if (a && b) butt_pair(*a, *b, k + 1, e - 1, s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1);
+      }
+    }
+  }
+
+  void vgroove() {
+    const VGrooveParams& vp = p_.vgroove;
+    // Bevels may be short (seen at a grazing angle); the tops must be long.
+    // A root face seen between the bevels can be a segment of its own, so a
+    // bevel pair may have one segment between them.
+    const int min_bevel = std::max(2, vp.min_bevel_points);
+    bevels_.clear();
+    for (int j = 0; j < static_cast<int>(s_.segments.size()); ++j)
+      if (s_.segments[j].fitted && s_.segments[j].count() >= min_bevel) bevels_.push_back(j);
+    for (std::size_t qi = 0; qi + 1 < bevels_.size(); ++qi) {
+      for (std::size_t qj = qi + 1; qj <= std::min(qi + 2, bevels_.size() - 1); ++qj) {
+        vgroove_pair(bevels_[qi], bevels_[qj]);
+      }
+    }
+  }
+
+  // A pair whose facing end points lie past the lines' intersection (a point
+  // of another surface that happens to lie on a line's extension, or a plate
+  // seen past the other's edge) is refitted without them; then the plates do
+  // not meet at x, so there is a gap or step between them.
+  std::optional<Pair> trimmed(const Pair& pr) const {
+    int a_last = pr.a.last, b_first = pr.b.first;
+    while (a_last > pr.a.first + 1 && (pt(a_last) - pr.x).dot(pr.ua) < -tol_) --a_last;
+    while (b_first < pr.b.last - 1 && (pt(b_first) - pr.x).dot(pr.ub) < -tol_) ++b_first;
+    if (a_last == pr.a.last && b_first == pr.b.first) return pr;
+    const auto a = plate_of(pr.a.first, a_last), b = plate_of(b_first, pr.b.last);
+    if (!a || !b) return std::nullopt;
+    Pair out{*a, *b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
+    const auto x = intersect(out.a.line, out.b.line, std::sin(5.0 * kDeg));
+    if (!x) return std::nullopt;
+    out.x = *x;
+    out.ua = (out.a.centroid - out.x).normalized();
+    out.ub = (out.b.centroid - out.x).normalized();
+    out.valley = (out.ua + out.ub).dot(origin_ - out.x) > 0.0;
+    out.trimmed = true;
+    return out;
+  }
+
+  void vgroove_pair(int i, int j) {
+    const VGrooveParams& vp = p_.vgroove;
+    {
+      auto pr = pair_of(i, j);
+      if (!pr || !pr->valley) return;
+      pr = trimmed(*pr);
+      if (!pr || !pr->valley) return;
+      const Plate& bl = pr->a;
+      const Plate& br = pr->b;
+      // Plate tops: the nearest long segments outside the bevels, meeting them
+      // at an outside edge, roughly square to the groove's bisector.
+      const Vec2 bisector = (pr->ua + pr->ub).normalized();
+      const double max_tilt = std::sin(30.0 * kDeg);
+      std::optional<Plate> tl, tr;
+      for (int q = n_long() - 1; q >= 0; --q) {
+        if (longs_[q] >= i) continue;
+        if (const auto t = pair_of(longs_[q], i);
+            t && !t->valley && std::abs(t->a.line.direction().dot(bisector)) < max_tilt)
+          tl = t->a;
+        break;
+      }
+      for (int q = 0; q < n_long(); ++q) {
+        if (longs_[q] <= j) continue;
+        if (const auto t = pair_of(j, longs_[q]);
+            t && !t->valley && std::abs(t->b.line.direction().dot(bisector)) < max_tilt)
+          tr = t->b;
+        break;
+      }
+      const int from = bl.last + 1, to = br.first - 1;
+      Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+      // Bevels that meet between two neighbouring rays are a closed root; a run
+      // of invalid columns between them is the root opening (the rays went
+      // through it and found nothing).
+      if (pr->trimmed || off_both(from, to, bl.line, br.line) ||
+          s_.invalid_columns_between(s_.cols[bl.last], s_.cols[br.first]) > 0 ||
+          !between_rays(pr->x, s_.cols[bl.last], s_.cols[br.first])) {
+        el = edge(bl, bl.last, s_.cols[bl.last] + 1, tl ? &tl->line.n : nullptr, span_of(from, to));
+        er = edge(br, br.first, s_.cols[br.first] - 1, tr ? &tr->line.n : nullptr, span_of(from, to));
+      }
+      // The plates' surface direction: from the tops, else square to the bisector.
+      Vec2 dp;
+      if (tl && tr) {
+        const Vec2 d1 = tl->line.direction(), d2 = tr->line.direction();
+        dp = (d1 + (d1.dot(d2) < 0.0 ? Vec2(-d2) : d2)).normalized();
+      } else if (tl || tr) {
+        dp = (tl ? tl : tr)->line.direction();
+      } else {
+        const Vec2 bis = (pr->ua + pr->ub).normalized();
+        dp = Vec2(-bis.y(), bis.x());
+      }
+      Vec2 np(-dp.y(), dp.x());
+      if (np.dot(origin_ - pr->x) < 0.0) np = -np;
+      const Vec2& low = np.dot(el.point) <= np.dot(er.point) ? el.point : er.point;
+      const Vec2 mid = 0.5 * (el.point + er.point);
+
+      Candidate c;
+      c.angle = angle_between_deg(pr->ua, pr->ub);
+      c.gap = std::abs(dp.dot(er.point - el.point));
+      c.mismatch = std::abs(np.dot(er.point - el.point));
+      c.edge_unc = el.half_width_mm + er.half_width_mm;
+      c.track = low + dp.dot(mid - low) * dp;
+      double depth = 0.0;
+      int sides = 0;
+      if (tl) depth += tl->line.distance(el.point), ++sides;
+      if (tr) depth += tr->line.distance(er.point), ++sides;
+      if (sides) c.depth = depth / sides;
+      std::optional<Vec2> tle, tre;
+      if (tl) tle = intersect(tl->line, bl.line, std::sin(5.0 * kDeg));
+      if (tr) tre = intersect(br.line, tr->line, std::sin(5.0 * kDeg));
+      if (tle && tre) {
+        const Vec2 poly[4] = {el.point, er.point, *tre, *tle};
+        double a2 = 0.0;
+        for (int k = 0; k < 4; ++k) {
+          const Vec2& u = poly[k];
+          const Vec2& v = poly[(k + 1) % 4];
+          a2 += u.x() * v.y() - v.x() * u.y();
+        }
+        c.area = 0.5 * std::abs(a2);
+      }
+      if (tl) c.bp[0] = outer(*tl, pt(tl->first));
+      c.bp[1] = tle;
+      c.bp[2] = el.point;
+      c.bp[3] = c.track;
+      c.bp[4] = er.point;
+      c.bp[5] = tre;
+      if (tr) c.bp[6] = outer(*tr, pt(tr->last));
+      // Prefer readings with both plate tops, then the best supported bevels.
+      c.score = 1e6 * (tl.has_value() + tr.has_value()) + std::min(bl.count(), br.count());
+      c.accepted = check(c, "angle", c.angle, vp.angle_deg, "deg") && check(c, "gap", c.gap, vp.gap_mm, "mm") &&
+                   check(c, "mismatch", c.mismatch, vp.mismatch_mm, "mm") &&
+                   check(c, "depth", c.depth, vp.depth_mm, "mm");
+      offer(c);
+    }
+  }
+};
+
+const char* shape_of(JointType joint) {
+  switch (joint) {
+    case JointType::Fillet: return "no inside corner between two plates";
+    case JointType::Corner: return "no outside corner between two plates";
+    case JointType::Lap: return "no step between two parallel plates";
+    case JointType::Butt: return "no gap or step between two parallel plates";
+    case JointType::VGroove: return "no groove between two bevels";
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string_view to_string(JointType type) {
+  for (const auto& j : kJointNames)
+    if (j.type == type) return j.name;
+  return "unknown";
+}
+
+std::optional<JointType> joint_type_from_string(std::string_view name) {
+  for (const auto& j : kJointNames)
+    if (j.name == name) return j.type;
+  return std::nullopt;
+}
+
+std::string_view to_string(TrackStatus status) {
+  switch (status) {
+    case TrackStatus::Ok: return "ok";
+    case TrackStatus::Rejected: return "rejected";
+    case TrackStatus::NoData: return "no_data";
+  }
+  return "unknown";
+}
+
+std::string_view break_point_name(JointType joint, int index) {
+  if (index < 0 || index >= kMaxBreakPoints) return {};
+  return kBreakNames[static_cast<int>(joint)][index];
+}
+
+Tracker::Tracker(const TrackerParams& params) : params_(params) {}
+
+const TrackResult& Tracker::track(const ProfileView& profile) {
+  track(profile, result_);
+  return result_;
+}
+
+void Tracker::track(const ProfileView& profile, TrackResult& out) {
+  out.status = TrackStatus::NoData;
+  out.reason.clear();
+  out.joint = params_.joint;
+  out.break_points.fill(std::nullopt);
+  out.track_point.reset();
+  out.gap_mm = out.gap_paper_mm = out.angle_deg = out.mismatch_mm = kNaN;
+  out.step_mm = out.depth_mm = out.area_mm2 = kNaN;
+  out.edge_uncertainty_mm = 0.0;
+  out.segments.clear();
+
+  segment_profile(profile, params_.segmentation, seg_);
+  out.valid_points = seg_.valid_points;
+  out.outliers = seg_.outliers;
+  if (!seg_.error.empty()) {
+    out.reason = seg_.error;
+    return;
+  }
+  const int s_min = std::max(2, params_.segmentation.segments.min_segment_points);
+  long_.clear();
+  for (std::size_t i = 0; i < seg_.segments.size(); ++i) {
+    const Segment& sg = seg_.segments[i];
+    out.segments.push_back({sg.first_col, sg.last_col, sg.count(), sg.line, sg.rms_mm});
+    if (sg.fitted && sg.count() >= s_min) long_.push_back(static_cast<int>(i));
+  }
+  char buf[160];
+  if (static_cast<int>(seg_.points.size()) < s_min) {
+    std::snprintf(buf, sizeof buf, "%d usable points, at least %d needed", static_cast<int>(seg_.points.size()),
+                  s_min);
+    out.reason = buf;
+    return;
+  }
+  out.status = TrackStatus::Rejected;
+  const int needed = params_.joint == JointType::Butt ? 1 : 2;
+  if (static_cast<int>(long_.size()) < needed) {
+    std::snprintf(buf, sizeof buf, "too few segments: %d with at least %d points, the %s needs %d",
+                  static_cast<int>(long_.size()), s_min, to_string(params_.joint).data(), needed);
+    out.reason = buf;
+    return;
+  }
+  Candidate best;
+  Matcher m(seg_, params_, long_, scratch_, bevels_);
+  if (!m.run(params_.joint, best)) {
+    out.reason = shape_of(params_.joint);
+    return;
+  }
+  out.status = best.accepted ? TrackStatus::Ok : TrackStatus::Rejected;
+  if (!best.accepted) out.reason = best.reason;
+  out.break_points = best.bp;
+  out.track_point = best.track;
+  out.gap_mm = best.gap;
+  out.gap_paper_mm = best.gap_paper;
+  out.angle_deg = best.angle;
+  out.mismatch_mm = best.mismatch;
+  out.step_mm = best.step;
+  out.depth_mm = best.depth;
+  out.area_mm2 = best.area;
+  out.edge_uncertainty_mm = best.edge_unc;
+}
+
+}  // namespace vts::tracker

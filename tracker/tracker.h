@@ -1,0 +1,99 @@
+#pragma once
+// The seam tracker: one profile in, the joint's break points, track point and
+// process values out, after the paper's Figure 4: (1) outlier elimination,
+// (2) recursive split, (3) merge, (4) a least-squares line per segment with
+// break points at the intersections of adjacent lines, (5) template matching
+// against the configured joint with accept ranges. Break point meanings per
+// joint: docs/JOINTS.md and break_point_name().
+#include <array>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tracker/geometry.h"
+#include "tracker/params.h"
+#include "tracker/segmentation.h"
+#include "tracker/types.h"
+
+namespace vts::tracker {
+
+enum class TrackStatus {
+  Ok,        // the joint was found and every process value is inside its accept range
+  Rejected,  // not accepted: TrackResult::reason says why
+  NoData,    // too few usable points to look for a joint (or malformed input)
+};
+std::string_view to_string(TrackStatus status);
+
+inline constexpr int kMaxBreakPoints = 8;
+inline constexpr double kNotMeasured = std::numeric_limits<double>::quiet_NaN();
+
+// Everything the tracker reports for one profile. Points are in the sensor
+// frame (y, z), mm. A process value that does not apply to the joint, or that
+// this profile does not show, is NaN.
+struct TrackResult {
+  TrackStatus status = TrackStatus::NoData;
+  std::string reason;  // empty when Ok
+  JointType joint = JointType::Fillet;
+
+  // B0..B7; which exist and what each means depends on the joint.
+  std::array<std::optional<Vec2>, kMaxBreakPoints> break_points;
+  std::optional<Vec2> track_point;  // the point to weld: the joint's root
+
+  double gap_mm = kNotMeasured;        // true gap between the plates
+  double gap_paper_mm = kNotMeasured;  // fillet: the paper's gap (3.2.3), web line's end point to the flange line
+  double angle_deg = kNotMeasured;     // joint angle (docs/JOINTS.md per joint)
+  double mismatch_mm = kNotMeasured;   // butt, v-groove: height difference of the plates
+  double step_mm = kNotMeasured;       // lap: upper plate's top edge above the lower plate
+  double depth_mm = kNotMeasured;      // v-groove: plate top to root
+  double area_mm2 = kNotMeasured;      // v-groove: open cross-section of the groove
+  // Half the interval, along the plate, in which the plate edges that define
+  // the gap can lie given the column rays (0 where lines meet or an edge face
+  // was seen). Ideal profiles cannot pin an edge better than this.
+  double edge_uncertainty_mm = 0.0;
+
+  // Step 4's segments in scan order (first/last are profile columns).
+  struct SegmentInfo {
+    int first_col = 0;
+    int last_col = 0;
+    int points = 0;
+    Line line;  // normal towards the sensor; meaningless when points < 2
+    double rms_mm = 0.0;
+  };
+  std::vector<SegmentInfo> segments;
+  int valid_points = 0;  // usable input points
+  int outliers = 0;      // removed by step 1
+};
+
+// What break point `index` (0..7) means for `joint`; empty if unused.
+std::string_view break_point_name(JointType joint, int index);
+
+// Holds the parameters and all scratch memory: after the first few profiles
+// track() allocates nothing (unless a reject reason outgrows its buffer).
+// Not thread-safe; use one Tracker per thread.
+class Tracker {
+ public:
+  explicit Tracker(const TrackerParams& params = {});
+
+  const TrackerParams& params() const { return params_; }
+  void set_params(const TrackerParams& params) { params_ = params; }
+
+  // Tracks one profile into `out` (its buffers are reused).
+  void track(const ProfileView& profile, TrackResult& out);
+  // Tracks one profile into the tracker's own result.
+  const TrackResult& track(const ProfileView& profile);
+
+  // Steps 1 to 4 of the last profile tracked.
+  const Segmentation& segmentation() const { return seg_; }
+
+ private:
+  TrackerParams params_;
+  Segmentation seg_;
+  TrackResult result_;
+  std::vector<int> long_;  // indices of segments with at least s_min points
+  std::vector<Vec2> scratch_;
+  std::vector<int> bevels_;
+};
+
+}  // namespace vts::tracker
