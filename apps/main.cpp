@@ -10,6 +10,7 @@
 
 #include "apps/scan.h"
 #include "apps/vts_plot.h"
+#include "apps/vts_sensors.h"
 #include "sensor/cell.h"
 
 
@@ -39,6 +40,8 @@ int run(int argc, char** argv) {
   CLI::App* cells = app.add_subcommand("cells", "List the built-in cells, one line each");
   int plot_exit = vts::cli::kExitOk;
   CLI::App* plot = vts::apps::add_plot_command(app, plot_exit);  // runs from its callback
+  int sensors_exit = vts::cli::kExitOk;
+  CLI::App* sensors = vts::apps::add_sensors_command(app, sensors_exit);
 
   try {
     app.parse(argc, argv);
@@ -58,6 +61,7 @@ int run(int argc, char** argv) {
   }
   if (cells->parsed()) return list_cells();
   if (plot->parsed()) return plot_exit;
+  if (sensors->parsed()) return sensors_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

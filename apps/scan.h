@@ -34,9 +34,12 @@ struct ScanOptions {
   std::string standoff;
   std::string points;
   std::string seed;
+  std::string sensor;
+  std::string material;
   std::string out;
   std::string source;
   bool reference = false;
+  bool ideal = false;
 };
 
 // Adds the `scan` subcommand to app; the options are written into opts.

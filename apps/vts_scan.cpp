@@ -22,6 +22,8 @@
 #include "apps/scan.h"
 #include "render/raster_source.h"
 #include "sensor/cell.h"
+#include "sensor/error_model.h"
+#include "sensor/presets.h"
 #include "sensor/profile_exr.h"
 #include "sensor/reference_source.h"
 #include "sensor/scene_file.h"
@@ -121,7 +123,7 @@ struct ScanPlan {
   fs::path out;             // absolute
   bool main_is_reference = false;
   bool with_reference = false;
-  std::optional<std::uint64_t> seed;
+  std::uint64_t seed = 0;
 };
 
 ScanPlan plan_scan(const ScanOptions& o) {
@@ -143,6 +145,22 @@ ScanPlan plan_scan(const ScanOptions& o) {
   Cell& cell = plan.cell;
   ScannerDesc& scanner = cell.scanner;
   ScanPath& path = cell.path;
+
+  // The sensor preset replaces the sensor fields (the scene's material,
+  // tool_from_laser and ideal flag stay); then the material; then the
+  // individual overrides below.
+  if (!o.sensor.empty()) {
+    const auto preset = sensor_preset(o.sensor);
+    if (!preset)
+      bad("--sensor", o.sensor,
+          "unknown sensor; valid names: " + join_names(sensor_preset_names()) +
+              " (see `vts sensors`)");
+    set_sensor_fields(scanner, *preset);
+  }
+  if (!o.material.empty() && !apply_material(scanner, o.material))
+    bad("--material", o.material,
+        "unknown material; valid names: " + join_names(material_names()) + " (see `vts sensors`)");
+  if (o.ideal) scanner.ideal = true;
 
   if (!o.standoff.empty()) {
     if (!o.scene.empty())
@@ -173,7 +191,7 @@ ScanPlan plan_scan(const ScanOptions& o) {
   if (!o.profiles.empty())
     path.profiles = static_cast<int>(
         parse_integer("--profiles", o.profiles, 1, std::numeric_limits<int>::max()));
-  if (!o.seed.empty()) plan.seed = parse_seed("--seed", o.seed);
+  plan.seed = o.seed.empty() ? 0 : parse_seed("--seed", o.seed);
 
   if (const std::string why = validate(scanner); !why.empty())
     throw UsageError("scanner: " + why);
@@ -258,23 +276,28 @@ class Progress {
 struct Stats {
   std::int64_t samples = 0, valid = 0;
   double range_sum_mm = 0.0;
-  std::int64_t both_valid = 0, hit_miss = 0;
+  std::int64_t both_valid = 0, hit_miss = 0, shadow_disagreements = 0;
   double max_diff_mm = 0.0;
   int max_hit_miss_per_profile = 0;
 
-  void add(const Profile& p, const Profile* ref) {
+  // `p` as written; `ideal` and `ideal_ref` the two sources' ideal profiles
+  // (the reference check compares geometry, before the error model).
+  void add(const Profile& p, const Profile& ideal, const Profile* ideal_ref) {
     samples += p.size();
-    int disagreements = 0;
     for (int i = 0; i < p.size(); ++i) {
-      if (p.valid[i]) {
-        ++valid;
-        range_sum_mm += p.range_mm[i];
-      }
-      if (!ref) continue;
-      if (p.valid[i] && ref->valid[i]) {
+      if (!p.valid[i]) continue;
+      ++valid;
+      range_sum_mm += p.range_mm[i];
+    }
+    if (!ideal_ref) return;
+    const Profile& ref = *ideal_ref;
+    int disagreements = 0;
+    for (int i = 0; i < ideal.size(); ++i) {
+      if (ideal.valid[i] && ref.valid[i]) {
         ++both_valid;
-        max_diff_mm = std::max(max_diff_mm, double(std::abs(p.range_mm[i] - ref->range_mm[i])));
-      } else if (p.valid[i] != ref->valid[i]) {
+        max_diff_mm = std::max(max_diff_mm, double(std::abs(ideal.range_mm[i] - ref.range_mm[i])));
+        shadow_disagreements += ideal.camera_visible[i] != ref.camera_visible[i];
+      } else if (ideal.valid[i] != ref.valid[i]) {
         ++disagreements;
       }
     }
@@ -310,7 +333,8 @@ int execute(const ScanPlan& plan) {
   info.scene_text = scene_to_yaml(cell);
   info.profiles = n;
   info.has_reference = plan.with_reference;
-  info.seed = plan.seed.value_or(0);
+  info.error_model = !cell.scanner.ideal;
+  info.seed = plan.seed;
 
   g_interrupted = 0;
   const auto old_handler = std::signal(SIGINT, on_sigint);
@@ -322,7 +346,13 @@ int execute(const ScanPlan& plan) {
   ProfileExrWriter writer(plan.out, info);
   constexpr int kBatch = 64;
   std::vector<Pose> poses;
+  // Ideal profiles from the sources, measured ones from the error model. The
+  // draws are keyed by profile index, so both sources see the same ones.
   std::vector<Profile> main(kBatch), ref(ref_source ? kBatch : 0);
+  Profile measured, measured_ref;
+  ScanState state, state_ref;
+  state.seed = state_ref.seed = plan.seed;
+  const bool model = !cell.scanner.ideal;
   Stats stats;
   Progress progress(n);
   for (int first = 0; first < n; first += kBatch) {
@@ -340,9 +370,20 @@ int execute(const ScanPlan& plan) {
         p->time_s = static_cast<double>(i) / cell.scanner.rate_hz;
         p->index = i;
       }
+      const Profile* out = &main[k];
       const Profile* reference = !plan.with_reference ? nullptr : ref_source ? &ref[k] : &main[k];
-      writer.write(main[k], reference);
-      stats.add(main[k], ref_source ? &ref[k] : nullptr);
+      if (model) {
+        apply_error_model(cell.scanner, main[k], state, measured);
+        out = &measured;
+        if (ref_source) {
+          apply_error_model(cell.scanner, ref[k], state_ref, measured_ref);
+          reference = &measured_ref;
+        } else if (reference) {
+          reference = &measured;
+        }
+      }
+      writer.write(*out, reference);
+      stats.add(*out, main[k], ref_source ? &ref[k] : nullptr);
     }
     progress.update(first + count);
   }
@@ -356,12 +397,25 @@ int execute(const ScanPlan& plan) {
               stats.samples ? 100.0 * stats.valid / stats.samples : 0.0,
               static_cast<long long>(stats.samples),
               stats.valid ? stats.range_sum_mm / stats.valid : 0.0, t, t > 0 ? n / t : 0.0);
+  if (model) {
+    auto ll = [](std::int64_t v) { return static_cast<long long>(v); };
+    std::printf(
+        "error model (%s, %s, seed %llu): of %lld lit points %lld measured; lost: %lld camera "
+        "shadow, %lld outside the region, %lld grazing, %lld outside the image, %lld dropouts; "
+        "outliers: %lld shiny, %lld rough\n",
+        cell.scanner.name.c_str(), cell.scanner.material.c_str(),
+        static_cast<unsigned long long>(plan.seed), ll(state.lit), ll(state.measured),
+        ll(state.shadowed), ll(state.outside_roi), ll(state.grazing), ll(state.outside_image),
+        ll(state.dropouts), ll(state.shiny_outliers), ll(state.rough_outliers));
+  }
   if (ref_source)
     std::printf(
-        "reference check: max |range - ref.range| = %.6f mm over %lld samples valid in both; "
-        "%lld hit/miss disagreements (at most %d in one profile)\n",
+        "reference check (ideal profiles): max |range - ref.range| = %.6f mm over %lld samples "
+        "valid in both; %lld hit/miss disagreements (at most %d in one profile); %lld camera "
+        "shadow disagreements\n",
         stats.max_diff_mm, static_cast<long long>(stats.both_valid),
-        static_cast<long long>(stats.hit_miss), stats.max_hit_miss_per_profile);
+        static_cast<long long>(stats.hit_miss), stats.max_hit_miss_per_profile,
+        static_cast<long long>(stats.shadow_disagreements));
   std::fflush(stdout);
   return kExitOk;
 }
@@ -414,9 +468,20 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
       ->type_name("MM");
   scan->add_option("--points", o.points, "Points (columns) per profile, 16..4096")->type_name("N");
   scan->add_option("--seed", o.seed,
-                   "Seed of the sensor error model, unsigned 64-bit integer (scans are "
-                   "deterministic today)")
+                   "Seed of the sensor error model's random draws, unsigned 64-bit integer "
+                   "(default 0); the same seed gives the same file, byte for byte")
       ->type_name("S");
+  scan->add_option("--sensor", o.sensor,
+                   "Sensor preset (list: `vts sensors`): mspot (default), lps-2048-short, "
+                   "lps-1280-mid. Replaces the cell's or scene's sensor fields")
+      ->type_name("NAME");
+  scan->add_option("--material", o.material,
+                   "Surface material preset: matte-steel (default), shiny-steel, aluminium, rough, "
+                   "lambertian (see `vts sensors`)")
+      ->type_name("NAME");
+  scan->add_flag("--ideal", o.ideal,
+                 "Error model off: write the ideal geometric profiles (no camera, noise, "
+                 "quantization, shadow, outliers or dropouts)");
   scan->add_option("--out", o.out,
                    "Output profile file (EXR, docs/EXR_FORMAT.md). Default: <cell name>.exr in "
                    "the current directory")

@@ -44,8 +44,22 @@ constexpr const char* kNoReference = "none";
 constexpr int kChunkRows = 64;
 
 // Per-point channels: full resolution, FLOAT. Order matches Impl buffers.
-constexpr std::array<const char*, 4> kPointNames = {"range", "y", "z", "valid"};
-constexpr std::array<const char*, 4> kRefPointNames = {"ref.range", "ref.y", "ref.z", "ref.valid"};
+// Slots 0-3: main; 4-7: reference (with has_reference); 8-11: error model
+// outputs (with error_model).
+constexpr int kPointSlots = 12;
+constexpr std::array<const char*, kPointSlots> kPointNames = {
+    "range",     "y",     "z",     "valid",  "ref.range", "ref.y",
+    "ref.z",     "ref.valid", "intensity", "true.y", "true.z", "true.valid"};
+constexpr const char* kModelOn = "triangulation";
+constexpr const char* kModelOff = "ideal";
+
+// The point slots a file with this info holds.
+std::vector<int> point_slots(const ProfileFileInfo& info) {
+  std::vector<int> slots = {0, 1, 2, 3};
+  if (info.has_reference) slots.insert(slots.end(), {4, 5, 6, 7});
+  if (info.error_model) slots.insert(slots.end(), {8, 9, 10, 11});
+  return slots;
+}
 // Per-row channels: one sample per row (xSampling = width).
 constexpr std::array<const char*, 8> kRowNames = {"pose.tx", "pose.ty", "pose.tz", "pose.qw",
                                                   "pose.qx", "pose.qy", "pose.qz", "time"};
@@ -54,6 +68,49 @@ constexpr std::array<const char*, 8> kRowNames = {"pose.tx", "pose.ty", "pose.tz
 // round trip.
 constexpr const char* kHiPrefix = "f64hi.";
 constexpr const char* kLoPrefix = "f64lo.";
+
+// Scanner fields added with the error model: written always, optional on
+// reading (files from before it get the ScannerDesc defaults).
+struct NumberField {
+  const char* attribute;
+  double ScannerDesc::*member;
+};
+struct IntField {
+  const char* attribute;
+  int ScannerDesc::*member;
+};
+const std::vector<NumberField>& number_fields() {
+  static const std::vector<NumberField> fields = {
+      {"vts.scanner.max_incidence_deg", &ScannerDesc::max_incidence_deg},
+      {"vts.scanner.baseline_mm", &ScannerDesc::baseline_mm},
+      {"vts.scanner.triangulation_deg", &ScannerDesc::triangulation_deg},
+      {"vts.scanner.focal_length_mm", &ScannerDesc::focal_length_mm},
+      {"vts.scanner.pixel_pitch_um", &ScannerDesc::pixel_pitch_um},
+      {"vts.scanner.subpixel_step_px", &ScannerDesc::subpixel_step_px},
+      {"vts.scanner.intensity_ref_range_mm", &ScannerDesc::intensity_ref_range_mm},
+      {"vts.scanner.speckle_px", &ScannerDesc::speckle_px},
+      {"vts.scanner.reflectivity", &ScannerDesc::reflectivity},
+      {"vts.scanner.shiny_cluster_prob", &ScannerDesc::shiny_cluster_prob},
+      {"vts.scanner.shiny_offset_min_mm", &ScannerDesc::shiny_offset_min_mm},
+      {"vts.scanner.shiny_offset_max_mm", &ScannerDesc::shiny_offset_max_mm},
+      {"vts.scanner.rough_outlier_prob", &ScannerDesc::rough_outlier_prob},
+      {"vts.scanner.rough_offset_min_mm", &ScannerDesc::rough_offset_min_mm},
+      {"vts.scanner.rough_offset_max_mm", &ScannerDesc::rough_offset_max_mm},
+      {"vts.scanner.dropout_prob_normal", &ScannerDesc::dropout_prob_normal},
+      {"vts.scanner.dropout_prob_grazing", &ScannerDesc::dropout_prob_grazing},
+  };
+  return fields;
+}
+const std::vector<IntField>& int_fields() {
+  static const std::vector<IntField> fields = {
+      {"vts.scanner.roi_first_column", &ScannerDesc::roi_first_column},
+      {"vts.scanner.roi_last_column", &ScannerDesc::roi_last_column},
+      {"vts.scanner.image_width_px", &ScannerDesc::image_width_px},
+      {"vts.scanner.image_height_px", &ScannerDesc::image_height_px},
+      {"vts.scanner.shiny_cluster_max_points", &ScannerDesc::shiny_cluster_max_points},
+  };
+  return fields;
+}
 
 std::string where(const fs::path& path) { return "profile EXR '" + path.string() + "'"; }
 
@@ -97,7 +154,7 @@ struct ProfileExrWriter::Impl {
   std::unique_ptr<Imf::StdOFStream> stream;
   std::unique_ptr<Imf::OutputFile> file;
 
-  std::array<std::vector<float>, 8> points;  // range y z valid, then ref.*
+  std::array<std::vector<float>, kPointSlots> points;  // see kPointNames
   std::array<std::vector<float>, 8> row_f;
   std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
 
@@ -130,9 +187,7 @@ void ProfileExrWriter::Impl::open() {
   Imf::Header h(width, info.profiles);
   h.compression() = Imf::ZIP_COMPRESSION;
   h.lineOrder() = Imf::INCREASING_Y;
-  const int np = info.has_reference ? 8 : 4;
-  for (int c = 0; c < np; ++c)
-    h.channels().insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4], Imf::Channel(Imf::FLOAT));
+  for (int c : point_slots(info)) h.channels().insert(kPointNames[c], Imf::Channel(Imf::FLOAT));
   for (const char* name : kRowNames) {
     h.channels().insert(name, Imf::Channel(Imf::FLOAT, width, 1));
     h.channels().insert(std::string(kHiPrefix) + name, Imf::Channel(Imf::UINT, width, 1));
@@ -156,12 +211,17 @@ void ProfileExrWriter::Impl::open() {
   put("vts.scanner.max_hit_mm", format_double(s.max_hit_mm));
   put("vts.scanner.rate_hz", format_double(s.rate_hz));
   put("vts.scanner.tool_from_laser", matrix_text(s.tool_from_laser));
+  for (const NumberField& f : number_fields())
+    put(f.attribute, format_double(s.*f.member));
+  for (const IntField& f : int_fields()) put(f.attribute, std::to_string(s.*f.member));
+  put("vts.scanner.material", s.material);
+  put("vts.error_model", info.error_model ? kModelOn : kModelOff);
   put("vts.scene.name", info.scene_name);
   put("vts.scene.yaml", info.scene_text);
   put("vts.reference", info.has_reference ? kReferenceKind : kNoReference);
   put("vts.seed", std::to_string(info.seed));
 
-  for (int c = 0; c < np; ++c) points[c].assign(std::size_t(kChunkRows) * width, 0.0f);
+  for (int c : point_slots(info)) points[c].assign(std::size_t(kChunkRows) * width, 0.0f);
   for (int c = 0; c < 8; ++c) {
     row_f[c].assign(kChunkRows, 0.0f);
     row_hi[c].assign(kChunkRows, 0u);
@@ -185,9 +245,8 @@ void ProfileExrWriter::Impl::flush() {
   const Imath::V2i origin(0, chunk_first);
   const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
   Imf::FrameBuffer fb;
-  const int np = info.has_reference ? 8 : 4;
-  for (int c = 0; c < np; ++c)
-    fb.insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4],
+  for (int c : point_slots(info))
+    fb.insert(kPointNames[c],
               Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows, fstride,
                                fstride * width));
   for (int c = 0; c < 8; ++c) {
@@ -258,6 +317,13 @@ void ProfileExrWriter::write(const Profile& profile, const Profile* reference) {
                            " points, expected vts.scanner.points = " + std::to_string(n)));
   };
   check_size(profile, "profile");
+  if (m.info.error_model) {
+    const std::size_t n = m.width;
+    if (profile.intensity.size() != n || profile.true_y_mm.size() != n ||
+        profile.true_z_mm.size() != n || profile.true_valid.size() != n)
+      throw ExrError(m.err(row + "profile has no error model output (intensity, true.*) of " +
+                           std::to_string(n) + " points, but the file has those channels"));
+  }
   if (m.info.has_reference && !reference)
     throw ExrError(m.err(row + "the file has reference channels but no reference was given"));
   if (!m.info.has_reference && reference)
@@ -274,6 +340,13 @@ void ProfileExrWriter::write(const Profile& profile, const Profile* reference) {
   };
   put_points(profile, 0);
   if (reference) put_points(*reference, 4);
+  if (m.info.error_model) {
+    std::copy(profile.intensity.begin(), profile.intensity.end(), m.points[8].begin() + off);
+    std::copy(profile.true_y_mm.begin(), profile.true_y_mm.end(), m.points[9].begin() + off);
+    std::copy(profile.true_z_mm.begin(), profile.true_z_mm.end(), m.points[10].begin() + off);
+    float* v = m.points[11].data() + off;
+    for (int i = 0; i < m.width; ++i) v[i] = profile.true_valid[i] ? 1.0f : 0.0f;
+  }
   const std::array<double, 8> values = row_values(profile);
   for (int c = 0; c < 8; ++c) {
     const auto bits = std::bit_cast<std::uint64_t>(values[c]);
@@ -356,6 +429,8 @@ struct Reader {
     return v;
   }
 
+  bool has(const char* name) const { return header->find(name) != header->end(); }
+
   Pose matrix(const char* name) const {
     const std::string& s = text(name);
     std::array<double, 16> m{};
@@ -419,6 +494,20 @@ ProfileRecording Reader::read() {
   s.max_hit_mm = number("vts.scanner.max_hit_mm");
   s.rate_hz = number("vts.scanner.rate_hz");
   s.tool_from_laser = matrix("vts.scanner.tool_from_laser");
+  for (const NumberField& f : number_fields())
+    if (has(f.attribute)) s.*f.member = number(f.attribute);
+  for (const IntField& f : int_fields())
+    if (has(f.attribute)) s.*f.member = integer(f.attribute);
+  if (has("vts.scanner.material")) s.material = text("vts.scanner.material");
+  if (has("vts.error_model")) {
+    const std::string& model = text("vts.error_model");
+    if (model == kModelOn)
+      info.error_model = true;
+    else if (model != kModelOff)
+      throw fail("attribute vts.error_model = '" + model + "', expected '" + kModelOn + "' or '" +
+                 kModelOff + "'");
+  }
+  s.ideal = !info.error_model;
   if (const std::string why = validate(s); !why.empty())
     throw fail("attribute vts.scanner." + why);
   info.scene_name = text("vts.scene.name");
@@ -442,9 +531,8 @@ ProfileRecording Reader::read() {
                std::to_string(s.points));
   info.profiles = height;
 
-  const int np = info.has_reference ? 8 : 4;
-  for (int c = 0; c < np; ++c)
-    require_channel(c < 4 ? kPointNames[c] : kRefPointNames[c - 4], Imf::FLOAT, 1);
+  const std::vector<int> slots = point_slots(info);
+  for (int c : slots) require_channel(kPointNames[c], Imf::FLOAT, 1);
   // Exact doubles when both bit channels are there, else the FLOAT rounding.
   std::array<bool, 8> exact{};
   for (int c = 0; c < 8; ++c) {
@@ -462,10 +550,10 @@ ProfileRecording Reader::read() {
     exact[c] = hi;
   }
 
-  std::array<std::vector<float>, 8> points;
+  std::array<std::vector<float>, kPointSlots> points;
   std::array<std::vector<float>, 8> row_f;
   std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
-  for (int c = 0; c < np; ++c) points[c].resize(std::size_t(kChunkRows) * width);
+  for (int c : slots) points[c].resize(std::size_t(kChunkRows) * width);
   for (int c = 0; c < 8; ++c) {
     row_f[c].resize(kChunkRows);
     row_hi[c].resize(kChunkRows);
@@ -479,8 +567,8 @@ ProfileRecording Reader::read() {
     const int rows = std::min(kChunkRows, height - first);
     const Imath::V2i origin(0, first);
     Imf::FrameBuffer fb;
-    for (int c = 0; c < np; ++c)
-      fb.insert(c < 4 ? kPointNames[c] : kRefPointNames[c - 4],
+    for (int c : slots)
+      fb.insert(kPointNames[c],
                 Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows,
                                  fstride, fstride * width));
     for (int c = 0; c < 8; ++c) {
@@ -504,28 +592,38 @@ ProfileRecording Reader::read() {
                         : double(row_f[c][r]);
       const Pose pose = pose_from_quat(Vec3(v[0], v[1], v[2]),
                                        Eigen::Quaterniond(v[3], v[4], v[5], v[6]));
-      auto take = [&](Profile& p, int base, const char* valid_name) {
-        p.resize(width);
-        const std::size_t off = std::size_t(r) * width;
-        std::copy_n(points[base + 0].begin() + off, width, p.range_mm.begin());
-        std::copy_n(points[base + 1].begin() + off, width, p.y_mm.begin());
-        std::copy_n(points[base + 2].begin() + off, width, p.z_mm.begin());
-        const float* valid = points[base + 3].data() + off;
+      const std::size_t off = std::size_t(r) * width;
+      auto take_valid = [&](std::vector<std::uint8_t>& out, int slot) {
+        const float* valid = points[slot].data() + off;
         for (int i = 0; i < width; ++i) {
           if (valid[i] != 0.0f && valid[i] != 1.0f) {
             std::ostringstream s;
-            s << "channel '" << valid_name << "' row " << y << " column " << i << " = "
+            s << "channel '" << kPointNames[slot] << "' row " << y << " column " << i << " = "
               << valid[i] << ", expected 0 or 1";
             throw fail(s.str());
           }
-          p.valid[i] = valid[i] == 1.0f ? 1 : 0;
+          out[i] = valid[i] == 1.0f ? 1 : 0;
         }
+      };
+      auto take = [&](Profile& p, int base) {
+        p.resize(width);
+        std::copy_n(points[base + 0].begin() + off, width, p.range_mm.begin());
+        std::copy_n(points[base + 1].begin() + off, width, p.y_mm.begin());
+        std::copy_n(points[base + 2].begin() + off, width, p.z_mm.begin());
+        take_valid(p.valid, base + 3);
         p.world_from_sensor = pose;
         p.time_s = v[7];
         p.index = y;
       };
-      take(rec.profiles[y], 0, "valid");
-      if (info.has_reference) take(rec.reference[y], 4, "ref.valid");
+      take(rec.profiles[y], 0);
+      if (info.has_reference) take(rec.reference[y], 4);
+      if (info.error_model) {
+        Profile& p = rec.profiles[y];
+        std::copy_n(points[8].begin() + off, width, p.intensity.begin());
+        std::copy_n(points[9].begin() + off, width, p.true_y_mm.begin());
+        std::copy_n(points[10].begin() + off, width, p.true_z_mm.begin());
+        take_valid(p.true_valid, 11);
+      }
     }
   }
   return rec;

@@ -3,7 +3,8 @@
 // Layout and attributes are documented in docs/EXR_FORMAT.md.
 //
 // Channels (FLOAT, full resolution): range, y, z, valid; with a reference
-// source also ref.range, ref.y, ref.z, ref.valid. Per-row channels (FLOAT,
+// source also ref.range, ref.y, ref.z, ref.valid; with the error model on also
+// intensity, true.y, true.z, true.valid (the ideal point). Per-row channels (FLOAT,
 // x-subsampled: one sample per row): pose.tx, pose.ty, pose.tz (mm, world),
 // pose.qw, pose.qx, pose.qy, pose.qz (world_from_sensor rotation, w >= 0),
 // time (s). These per-row values are doubles in Profile; the FLOAT channels
@@ -33,6 +34,10 @@ struct ProfileFileInfo {
   std::string scene_text;  // the scene as YAML (docs/SCENE_FORMAT.md)
   int profiles = 0;        // rows
   bool has_reference = false;
+  // The main (and ref.*) channels hold measured profiles (sensor/error_model.h),
+  // and intensity, true.y, true.z, true.valid are present; attribute
+  // vts.error_model. On reading, scanner.ideal = !error_model.
+  bool error_model = false;
   std::uint64_t seed = 0;  // seed of the sensor error model's random draws
 };
 
@@ -54,7 +59,8 @@ class ProfileExrWriter {
   // `reference` is required iff info.has_reference; only its samples are
   // stored (it shares the row's pose and time). Throws, writing nothing, on a
   // row out of order, a row beyond info.profiles or a profile whose size is
-  // not info.scanner.points.
+  // not info.scanner.points (or, with info.error_model, that lacks intensity
+  // and true.*).
   void write(const Profile& profile, const Profile* reference = nullptr);
   // Throws ExrError if fewer rows than announced were written, and then
   // removes the temporary file at once. A second call does nothing.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "sensor/error_model.h"
 #include "sensor/rays.h"
 
 namespace vts {
@@ -63,7 +65,7 @@ constexpr std::size_t kMinProfilesPerThread = 64;
 class ReferenceSource final : public ProfileSource {
  public:
   ReferenceSource(const ScannerDesc& desc, const Mesh& mesh)
-      : desc_(desc), dirs_(column_directions(desc)) {
+      : desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm) {
     dirs_d_.reserve(dirs_.size());
     for (const auto& d : dirs_) dirs_d_.push_back(d.cast<double>());
     build_scene(mesh);
@@ -156,9 +158,7 @@ class ReferenceSource final : public ProfileSource {
 
   void scan_one(const Pose& world_from_sensor, Profile& out) const {
     const int n = desc_.points;
-    if (out.size() != n || static_cast<int>(out.y_mm.size()) != n ||
-        static_cast<int>(out.z_mm.size()) != n || static_cast<int>(out.valid.size()) != n)
-      out.resize(n);
+    if (!out.sized(n)) out.resize(n);
     out.world_from_sensor = world_from_sensor;
 
     const Eigen::Matrix3d r = world_from_sensor.linear();
@@ -194,16 +194,77 @@ class ReferenceSource final : public ProfileSource {
       rtcIntersect16(valid, scene_.get(), &context, &rh);
       const int count = std::min(kPacket, n - base);
       for (int k = 0; k < count; ++k) {
-        const float t = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar[k] : kNoHit;
-        set_column(desc_, dirs_[base + k], base + k, t, out);
+        const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        const float t = hit ? rh.ray.tfar[k] : kNoHit;
+        float cos_incidence = 0.0f;
+        if (hit) {
+          const Eigen::Vector3f ng(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+          const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+          const float norm = ng.norm() * d.norm();
+          cos_incidence = norm > 0.0f ? std::abs(ng.dot(d)) / norm : 0.0f;
+        }
+        set_column(desc_, dirs_[base + k], base + k, t, out, cos_incidence);
       }
     }
     check(device_.get(), "rtcIntersect16");
+    if (!desc_.ideal) cast_shadow_rays(world_from_sensor, out);
+  }
+
+  // Camera shadow: a ray from each lit point towards the camera centre; the
+  // point is hidden if anything lies between kShadowEpsilonMm from the point
+  // and the camera.
+  void cast_shadow_rays(const Pose& world_from_sensor, Profile& out) const {
+    const int n = desc_.points;
+    const Eigen::Vector3f c = (world_from_sensor * camera_centre_).cast<float>();
+    const Eigen::Vector3f o = world_from_sensor.translation().cast<float>();
+    const Eigen::Matrix3d r = world_from_sensor.linear();
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+
+    alignas(64) RTCRay16 ray;
+    alignas(64) int valid[kPacket];
+    int columns[kPacket];
+    int count = 0;
+    auto flush = [&] {
+      for (int k = count; k < kPacket; ++k) valid[k] = 0;
+      rtcOccluded16(valid, scene_.get(), &context, &ray);
+      for (int k = 0; k < count; ++k)
+        if (ray.tfar[k] < 0.0f) out.camera_visible[columns[k]] = 0;
+      count = 0;
+    };
+    for (int i = 0; i < n; ++i) {
+      if (!out.valid[i]) continue;
+      // The lit point exactly as the hit was found: origin + t * direction.
+      const Eigen::Vector3f d = (r * dirs_d_[i]).cast<float>();
+      const Eigen::Vector3f p = o + out.range_mm[i] * d;
+      const Eigen::Vector3f to_camera = c - p;
+      const float length = to_camera.norm();
+      if (!(length > kShadowEpsilonMm)) continue;
+      const int k = count;
+      valid[k] = -1;
+      columns[k] = i;
+      ray.org_x[k] = p.x();
+      ray.org_y[k] = p.y();
+      ray.org_z[k] = p.z();
+      ray.dir_x[k] = to_camera.x() / length;
+      ray.dir_y[k] = to_camera.y() / length;
+      ray.dir_z[k] = to_camera.z() / length;
+      ray.tnear[k] = static_cast<float>(kShadowEpsilonMm);
+      ray.tfar[k] = length;
+      ray.time[k] = 0.0f;
+      ray.mask[k] = 0xFFFFFFFFu;
+      ray.id[k] = static_cast<unsigned>(k);
+      ray.flags[k] = 0;
+      if (++count == kPacket) flush();
+    }
+    if (count > 0) flush();
+    check(device_.get(), "rtcOccluded16");
   }
 
   ScannerDesc desc_;
   std::vector<Eigen::Vector3f> dirs_;  // sensor frame, unit, as cast
   std::vector<Eigen::Vector3d> dirs_d_;  // the same, widened for the rotation
+  Eigen::Vector3d camera_centre_;        // sensor frame, mm
   DevicePtr device_;
   ScenePtr scene_;  // declared after device_: released first
 };

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -15,9 +16,53 @@
 #include <utility>
 #include <vector>
 
+#include "sensor/presets.h"
+
 namespace vts {
 
 namespace {
+
+// Scanner fields read and written by name beyond the special ones (name,
+// preset, material, points, tool_from_laser, ideal); docs/SCENE_FORMAT.md.
+struct NumberKey {
+  const char* key;
+  double ScannerDesc::*member;
+};
+struct IntKey {
+  const char* key;
+  int ScannerDesc::*member;
+};
+constexpr NumberKey kScannerNumbers[] = {
+    {"fan_deg", &ScannerDesc::fan_deg},
+    {"rate_hz", &ScannerDesc::rate_hz},
+    {"min_range_mm", &ScannerDesc::min_range_mm},
+    {"max_range_mm", &ScannerDesc::max_range_mm},
+    {"max_hit_mm", &ScannerDesc::max_hit_mm},
+    {"max_incidence_deg", &ScannerDesc::max_incidence_deg},
+    {"baseline_mm", &ScannerDesc::baseline_mm},
+    {"triangulation_deg", &ScannerDesc::triangulation_deg},
+    {"focal_length_mm", &ScannerDesc::focal_length_mm},
+    {"pixel_pitch_um", &ScannerDesc::pixel_pitch_um},
+    {"subpixel_step_px", &ScannerDesc::subpixel_step_px},
+    {"intensity_ref_range_mm", &ScannerDesc::intensity_ref_range_mm},
+    {"speckle_px", &ScannerDesc::speckle_px},
+    {"reflectivity", &ScannerDesc::reflectivity},
+    {"shiny_cluster_prob", &ScannerDesc::shiny_cluster_prob},
+    {"shiny_offset_min_mm", &ScannerDesc::shiny_offset_min_mm},
+    {"shiny_offset_max_mm", &ScannerDesc::shiny_offset_max_mm},
+    {"rough_outlier_prob", &ScannerDesc::rough_outlier_prob},
+    {"rough_offset_min_mm", &ScannerDesc::rough_offset_min_mm},
+    {"rough_offset_max_mm", &ScannerDesc::rough_offset_max_mm},
+    {"dropout_prob_normal", &ScannerDesc::dropout_prob_normal},
+    {"dropout_prob_grazing", &ScannerDesc::dropout_prob_grazing},
+};
+constexpr IntKey kScannerInts[] = {
+    {"roi_first_column", &ScannerDesc::roi_first_column},
+    {"roi_last_column", &ScannerDesc::roi_last_column},
+    {"image_width_px", &ScannerDesc::image_width_px},
+    {"image_height_px", &ScannerDesc::image_height_px},
+    {"shiny_cluster_max_points", &ScannerDesc::shiny_cluster_max_points},
+};
 
 std::string format_error(const std::string& file, int line, const std::string& field,
                          const std::string& message) {
@@ -214,24 +259,55 @@ class Parser {
     fail(m.self().line(), base.empty() ? name : base + "." + name, message);
   }
 
+  bool boolean(const Field& f) const {
+    const std::string s = scalar_text(f, "true or false");
+    if (s == "true" || s == "True" || s == "TRUE") return true;
+    if (s == "false" || s == "False" || s == "FALSE") return false;
+    fail(f, "expected true or false, got " + describe(f.node));
+  }
+
+  // Order: the sensor preset (all sensor fields), then the material preset
+  // (all surface fields), then each field given.
   ScannerDesc scanner(const Field& f) const {
-    const Map m(*this, f,
-                {"name", "fan_deg", "points", "min_range_mm", "max_range_mm", "max_hit_mm",
-                 "rate_hz", "tool_from_laser"});
+    std::vector<std::string> allowed = {"name", "preset", "material", "points", "tool_from_laser",
+                                        "ideal"};
+    for (const auto& k : kScannerNumbers) allowed.emplace_back(k.key);
+    for (const auto& k : kScannerInts) allowed.emplace_back(k.key);
+    const Map m(*this, f, allowed);
     ScannerDesc d;
+    if (auto x = m.get("preset")) {
+      const std::string name = string(*x);
+      const auto preset = sensor_preset(name);
+      if (!preset)
+        fail(*x, "unknown sensor preset '" + name + "' (expected one of: " +
+                     join_names(sensor_preset_names()) + "; see `vts sensors`)");
+      set_sensor_fields(d, *preset);
+    }
+    if (auto x = m.get("material")) {
+      const std::string name = string(*x);
+      if (!apply_material(d, name))
+        fail(*x, "unknown material '" + name + "' (expected one of: " +
+                     join_names(material_names()) + ")");
+    }
     if (auto x = m.get("name")) d.name = string(*x);
-    if (auto x = m.get("fan_deg")) d.fan_deg = number(*x);
     if (auto x = m.get("points")) {
       const long long n = integer(*x);
       if (n < kMinPoints || n > kMaxPoints)
         fail(*x, "points = " + std::to_string(n) + ": must be between 16 and 4096");
       d.points = static_cast<int>(n);
     }
-    if (auto x = m.get("min_range_mm")) d.min_range_mm = number(*x);
-    if (auto x = m.get("max_range_mm")) d.max_range_mm = number(*x);
-    if (auto x = m.get("max_hit_mm")) d.max_hit_mm = number(*x);
-    if (auto x = m.get("rate_hz")) d.rate_hz = number(*x);
+    for (const auto& k : kScannerNumbers)
+      if (auto x = m.get(k.key)) d.*k.member = number(*x);
+    for (const auto& k : kScannerInts) {
+      if (auto x = m.get(k.key)) {
+        const long long v = integer(*x);
+        if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+          fail(*x, std::string(k.key) + " = " + std::to_string(v) + ": out of range");
+        d.*k.member = static_cast<int>(v);
+      }
+    }
     if (auto x = m.get("tool_from_laser")) d.tool_from_laser = pose(*x);
+    if (auto x = m.get("ideal")) d.ideal = boolean(*x);
     if (const std::string err = validate(d); !err.empty()) fail_validation(m, err);
     return d;
   }
@@ -426,13 +502,16 @@ std::string scene_to_yaml(const Cell& cell) {
 
   const ScannerDesc& s = cell.scanner;
   out << "scanner:\n";
+  // The material name selects a preset when read back, so it is written only
+  // when it names one; every surface field follows explicitly anyway.
+  const auto materials = material_names();
+  if (std::find(materials.begin(), materials.end(), s.material) != materials.end())
+    out << "  material: " << s.material << "\n";
   out << "  name: " << yaml_quoted(s.name) << "\n";
-  out << "  fan_deg: " << num(s.fan_deg) << "\n";
   out << "  points: " << s.points << "\n";
-  out << "  min_range_mm: " << num(s.min_range_mm) << "\n";
-  out << "  max_range_mm: " << num(s.max_range_mm) << "\n";
-  out << "  max_hit_mm: " << num(s.max_hit_mm) << "\n";
-  out << "  rate_hz: " << num(s.rate_hz) << "\n";
+  for (const auto& k : kScannerNumbers) out << "  " << k.key << ": " << num(s.*k.member) << "\n";
+  for (const auto& k : kScannerInts) out << "  " << k.key << ": " << s.*k.member << "\n";
+  out << "  ideal: " << (s.ideal ? "true" : "false") << "\n";
   out << "  tool_from_laser:\n";
   write_pose(out, "    ", s.tool_from_laser);
 
