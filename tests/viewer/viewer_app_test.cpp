@@ -1,0 +1,137 @@
+// The viewer's App without a window: an OSMesa core context stands in for the
+// window's, so cells, presets, the error model switch, recording and the
+// scene handed to the renderer are exercised headless. Tagged [gl].
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "apps/viewer_app.h"
+#include "render/gl_context.h"
+#include "render/viewer_renderer.h"
+#include "sensor/cell.h"
+#include "sensor/presets.h"
+#include "sensor/profile_exr.h"
+
+namespace {
+
+using namespace vts::viewer;
+
+// Frames of 1/30 s with the scans waited for, as in a scripted run.
+void run_frames(App& app, int frames, MotionInput motion = {}) {
+  app.sync_scans = true;
+  for (int i = 0; i < frames; ++i) app.update(motion, 1.0 / 30.0);
+}
+
+int laser_points(const SceneView& view) {
+  int n = 0;
+  for (const auto& p : view.points)
+    n += p.color.r == kLaserLineColor.r && p.color.g == kLaserLineColor.g && p.color.b == kLaserLineColor.b;
+  return n;
+}
+
+struct Fixture {
+  vts::GlContext gl;
+  Renderer renderer;
+};
+
+}  // namespace
+
+TEST_CASE("viewer app: every built-in cell scans and lights a line", "[viewer][gl]") {
+  Fixture f;
+  AppOptions options;
+  App app(options, f.renderer);
+  for (const auto& name : vts::builtin_cell_names()) {
+    INFO("cell " << name);
+    app.load_builtin(name);
+    REQUIRE(app.scene_label() == name);
+    run_frames(app, 4);
+    REQUIRE(app.last_profile());
+    REQUIRE(app.last_ideal());
+    // Each cell's path starts looking at its joint: most columns hit.
+    CHECK(app.last_ideal()->valid_count() > app.last_ideal()->size() / 2);
+    SceneView view;
+    app.build_scene(view, 800, 600);
+    CHECK(view.meshes.size() == 6);
+    CHECK(laser_points(view) == app.last_ideal()->valid_count());
+    CHECK(view.translucent_triangles.size() % 3 == 0);
+    CHECK_FALSE(view.translucent_triangles.empty());
+  }
+}
+
+TEST_CASE("viewer app: the default cell is tracked and accepted", "[viewer][gl]") {
+  Fixture f;
+  App app(AppOptions{}, f.renderer);
+  CHECK(app.scene_label() == "static-B");
+  run_frames(app, 3);
+  REQUIRE(app.last_track());
+  CHECK(app.last_track()->joint == vts::tracker::JointType::Fillet);
+  CHECK(app.last_track()->status == vts::tracker::TrackStatus::Ok);
+  REQUIRE(app.last_track()->track_point);
+  // Table 2 B: the root lies on the optical axis, 103 mm away.
+  CHECK(app.last_track()->track_point->x() == Approx(0.0).margin(0.2));
+  CHECK(app.last_track()->track_point->y() == Approx(103.0).margin(0.2));
+}
+
+TEST_CASE("viewer app: the torch moves and the sensor scans at its rate", "[viewer][gl]") {
+  Fixture f;
+  App app(AppOptions{}, f.renderer);
+  const vts::Vec3 start = app.world_from_torch().translation();
+  MotionInput forward;
+  forward.translate = vts::Vec3(1, 0, 0);
+  run_frames(app, 30, forward);  // one second at 25 mm/s
+  const vts::Vec3 moved = app.world_from_torch().translation() - start;
+  CHECK(moved.isApprox(vts::Vec3(25.0, 0, 0), 1e-9));
+  CHECK(app.scans() >= 20);
+  CHECK(app.scans() <= 21);
+  CHECK(app.last_profile()->time_s == Approx((app.scans() - 1) / 20.0));
+}
+
+TEST_CASE("viewer app: sensor presets and the error model switch", "[viewer][gl]") {
+  Fixture f;
+  App app(AppOptions{}, f.renderer);
+  for (const auto& name : vts::sensor_preset_names()) {
+    INFO("preset " << name);
+    app.set_sensor_preset(name);
+    CHECK(app.cell().scanner.name == name);
+    run_frames(app, 3);
+    REQUIRE(app.last_profile());
+    CHECK(app.last_profile()->size() == vts::sensor_preset(name)->points);
+  }
+  app.set_error_model(false);
+  CHECK_FALSE(app.error_model());
+  run_frames(app, 3);
+  REQUIRE(app.last_profile());
+  // Ideal: the measured profile is the geometric one.
+  const vts::Profile& m = *app.last_profile();
+  const vts::Profile& g = *app.last_ideal();
+  REQUIRE(m.size() == g.size());
+  for (int i = 0; i < m.size(); ++i) {
+    CHECK(m.valid[i] == g.valid[i]);
+    CHECK(m.z_mm[i] == g.z_mm[i]);
+  }
+}
+
+TEST_CASE("viewer app: P records the scanned profiles to a vts EXR", "[viewer][gl]") {
+  Fixture f;
+  const auto dir = std::filesystem::temp_directory_path() / "vts_viewer_app_test";
+  std::filesystem::remove_all(dir);
+  AppOptions options;
+  options.record = dir / "rec.exr";
+  App app(options, f.renderer);
+  app.press(Key::Record);
+  CHECK(app.recording());
+  run_frames(app, 30);
+  const auto recorded = app.recorded_profiles();
+  CHECK(recorded >= 20);
+  app.press(Key::Record);
+  CHECK_FALSE(app.recording());
+  const vts::ProfileRecording rec = vts::read_profile_exr(dir / "rec.exr");
+  CHECK(rec.profiles.size() == recorded);
+  CHECK(rec.info.scene_name == "static-B");
+  CHECK(rec.profiles.front().time_s == Approx(0.0));
+  CHECK(rec.profiles.back().time_s == Approx((recorded - 1) / 20.0));
+  // The mount the viewer chose travels with the file.
+  CHECK(rec.info.scanner.tool_from_laser.translation().x() == Approx(kLookAheadMm));
+  std::filesystem::remove_all(dir);
+}
