@@ -287,7 +287,8 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
       for (int k = 0; k < span; ++k) usable[k] &= pv[k] != 0;
     }
   }
-  std::memcpy(s.column_state.data() + lo, usable, static_cast<std::size_t>(span));  // kColumnKept == 1
+  if (span > 0)  // memcpy's pointers must not be null, even for 0 bytes
+    std::memcpy(s.column_state.data() + lo, usable, static_cast<std::size_t>(span));  // kColumnKept == 1
   int nv = 0;
   for (int k = 0; k < span; ++k) {
     ys[nv] = profile.y_mm[lo + k];
