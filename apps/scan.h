@@ -9,11 +9,11 @@
 namespace vts::cli {
 
 // Exit codes: 0 success, 1 runtime failure (GL, EXR write), 2 bad input
-// (option value, scene file). 130 when interrupted by SIGINT.
+// (option value, scene file). 128 + the signal when interrupted: 130 SIGINT,
+// 143 SIGTERM.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitRuntime = 1;
 inline constexpr int kExitUsage = 2;
-inline constexpr int kExitInterrupted = 130;
 
 // A bad option value or input file, found before any output is created.
 struct UsageError : std::runtime_error {

@@ -223,11 +223,13 @@ ScanPlan plan_scan(const ScanOptions& o) {
   return plan;
 }
 
+// The signal that interrupted the scan (SIGINT or SIGTERM), 0 while running.
 volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) { g_interrupted = 1; }
+extern "C" void on_interrupt(int sig) { g_interrupted = sig; }
 
 struct Interrupted : std::runtime_error {
-  Interrupted() : std::runtime_error("interrupted") {}
+  explicit Interrupted(int sig) : std::runtime_error("interrupted"), signal(sig) {}
+  int signal;
 };
 
 // Progress on stderr: every second on a terminal (one line, rewritten); in a
@@ -336,12 +338,19 @@ int execute(const ScanPlan& plan) {
   info.error_model = !cell.scanner.ideal;
   info.seed = plan.seed;
 
+  // SIGINT and SIGTERM stop the scan between batches; the writer's
+  // destructor then removes its temporary file, so nothing appears under the
+  // output name.
   g_interrupted = 0;
-  const auto old_handler = std::signal(SIGINT, on_sigint);
-  struct RestoreSignal {
-    decltype(old_handler) h;
-    ~RestoreSignal() { std::signal(SIGINT, h); }
-  } restore{old_handler};
+  struct RestoreSignals {
+    using Handler = void (*)(int);
+    Handler old_int = std::signal(SIGINT, on_interrupt);
+    Handler old_term = std::signal(SIGTERM, on_interrupt);
+    ~RestoreSignals() {
+      std::signal(SIGINT, old_int);
+      std::signal(SIGTERM, old_term);
+    }
+  } restore;
 
   ProfileExrWriter writer(plan.out, info);
   constexpr int kBatch = 64;
@@ -356,7 +365,7 @@ int execute(const ScanPlan& plan) {
   Stats stats;
   Progress progress(n);
   for (int first = 0; first < n; first += kBatch) {
-    if (g_interrupted) throw Interrupted();
+    if (g_interrupted) throw Interrupted(g_interrupted);
     const int count = std::min(kBatch, n - first);
     poses.resize(count);
     for (int k = 0; k < count; ++k) poses[k] = path.pose_at(first + k);
@@ -499,9 +508,12 @@ int run_scan(const ScanOptions& opts) {
   const ScanPlan plan = plan_scan(opts);  // throws UsageError; nothing created yet
   try {
     return execute(plan);
-  } catch (const Interrupted&) {
-    std::cerr << (isatty(STDERR_FILENO) == 1 ? "\n" : "") << "vts scan: interrupted; nothing was written to " << plan.out.string() << "\n";
-    return kExitInterrupted;
+  } catch (const Interrupted& e) {
+    std::cerr << (isatty(STDERR_FILENO) == 1 ? "\n" : "") << "vts scan: interrupted by "
+              << (e.signal == SIGTERM ? "SIGTERM" : "SIGINT") << "; nothing was written to "
+              << plan.out.string() << "\n";
+    // The shell's convention: 128 + the signal number (130 SIGINT, 143 SIGTERM).
+    return 128 + e.signal;
   }
 }
 

@@ -1,6 +1,8 @@
 // Runs bin/vts in a fresh temporary directory and checks exit codes, messages
 // and the files it leaves behind.
 #include <sys/wait.h>
+#include <csignal>
+#include <cstdio>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -464,5 +466,76 @@ TEST_CASE("vts scan: error model channels - ground truth - intensity - presets",
     CHECK(r.code == 2);
     CHECK(contains(r.err, "--material"));
     CHECK_FALSE(fs::exists(dir.path / "n.exr"));
+  }
+}
+
+namespace {
+
+// Starts `vts ARGS...` in dir (no shell), stdout/stderr to files there.
+pid_t spawn_vts(const TempDir& dir, const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.path.c_str()) != 0) _exit(127);
+    std::freopen("stdout.txt", "w", stdout);
+    std::freopen("stderr.txt", "w", stderr);
+    std::vector<char*> argv;
+    std::string exe = kVts.string();
+    argv.push_back(exe.data());
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Any file in dir whose name starts with prefix.
+bool any_file_starting(const fs::path& dir, const std::string& prefix) {
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("vts scan: SIGINT or SIGTERM leaves no file under the output name", "[cli]") {
+  // (Issue 8, 4.) A scan far too long to finish is stopped once its temporary
+  // file exists; then the same seed still writes the same bytes.
+  TempDir dir;
+  const Result first = run_vts(dir, "scan --cell lap --source reference --profiles 300 --seed 11 --out before.exr");
+  REQUIRE(first.code == 0);
+  const std::string before = slurp(dir.path / "before.exr");
+
+  for (int sig : {SIGINT, SIGTERM}) {
+    DYNAMIC_SECTION("signal " << sig) {
+      const pid_t pid = spawn_vts(dir, {"scan", "--cell", "lap", "--source", "reference",
+                                        "--points", "4096", "--profiles", "100000000", "--seed",
+                                        "11", "--out", "long.exr"});
+      REQUIRE(pid > 0);
+      // Wait (up to 60 s) for the writer's temporary file, then signal.
+      bool started = false;
+      for (int k = 0; k < 6000 && !started; ++k) {
+        started = any_file_starting(dir.path, "long.exr.tmp-");
+        if (!started) usleep(10000);
+      }
+      REQUIRE(started);
+      usleep(200000);
+      REQUIRE(kill(pid, sig) == 0);
+      int status = 0;
+      REQUIRE(waitpid(pid, &status, 0) == pid);
+      REQUIRE(WIFEXITED(status));
+      CHECK(WEXITSTATUS(status) == 128 + sig);
+      const std::string err = slurp(dir.path / "stderr.txt");
+      INFO(err);
+      CHECK(contains(err, sig == SIGTERM ? "interrupted by SIGTERM" : "interrupted by SIGINT"));
+      CHECK(contains(err, "nothing was written to"));
+      CHECK_FALSE(fs::exists(dir.path / "long.exr"));
+      CHECK_FALSE(any_file_starting(dir.path, "long.exr.tmp-"));
+
+      const Result again = run_vts(dir, "scan --cell lap --source reference --profiles 300 --seed 11 --out after.exr");
+      REQUIRE(again.code == 0);
+      CHECK(slurp(dir.path / "after.exr") == before);
+    }
   }
 }
