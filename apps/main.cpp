@@ -11,6 +11,8 @@
 #include "apps/scan.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
+#include "apps/vts_static.h"
+#include "apps/vts_track.h"
 #include "sensor/cell.h"
 
 
@@ -42,6 +44,10 @@ int run(int argc, char** argv) {
   CLI::App* plot = vts::apps::add_plot_command(app, plot_exit);  // runs from its callback
   int sensors_exit = vts::cli::kExitOk;
   CLI::App* sensors = vts::apps::add_sensors_command(app, sensors_exit);
+  int track_exit = vts::cli::kExitOk;
+  CLI::App* track = vts::apps::add_track_command(app, track_exit);  // runs from its callback
+  int static_exit = vts::cli::kExitOk;
+  CLI::App* static_cmd = vts::apps::add_static_command(app, static_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -61,6 +67,8 @@ int run(int argc, char** argv) {
   }
   if (cells->parsed()) return list_cells();
   if (plot->parsed()) return plot_exit;
+  if (track->parsed()) return track_exit;
+  if (static_cmd->parsed()) return static_exit;
   if (sensors->parsed()) return sensors_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;

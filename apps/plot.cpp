@@ -160,9 +160,34 @@ void Chart::points(const std::vector<double>& x, const std::vector<double>& y, R
 }
 
 void Chart::polyline(const std::vector<double>& x, const std::vector<double>& y, Rgb c, int thickness) {
-  for (std::size_t i = 1; i < x.size() && i < y.size(); ++i)
-    if (std::isfinite(y[i - 1]) && std::isfinite(y[i]))
-      c_.line(px(x[i - 1]), py(y[i - 1]), px(x[i]), py(y[i]), c, thickness);
+  // Each piece is clipped to the chart's data window (Liang-Barsky), so lines
+  // running beyond it do not cross the frame, title or legend.
+  const double xlo = std::min(x0_, x1_), xhi = std::max(x0_, x1_);
+  const double ylo = std::min(y0_, y1_), yhi = std::max(y0_, y1_);
+  for (std::size_t i = 1; i < x.size() && i < y.size(); ++i) {
+    if (!(std::isfinite(x[i - 1]) && std::isfinite(y[i - 1]) && std::isfinite(x[i]) &&
+          std::isfinite(y[i])))
+      continue;
+    const double dx = x[i] - x[i - 1], dy = y[i] - y[i - 1];
+    double t0 = 0.0, t1 = 1.0;
+    bool inside = true;
+    auto clip = [&](double p, double q) {  // keep where p t <= q
+      if (p == 0.0) {
+        inside = inside && q >= 0.0;
+        return;
+      }
+      const double t = q / p;
+      if (p < 0.0) t0 = std::max(t0, t);
+      else t1 = std::min(t1, t);
+    };
+    clip(-dx, x[i - 1] - xlo);
+    clip(dx, xhi - x[i - 1]);
+    clip(-dy, y[i - 1] - ylo);
+    clip(dy, yhi - y[i - 1]);
+    if (!inside || t0 > t1) continue;
+    c_.line(px(x[i - 1] + t0 * dx), py(y[i - 1] + t0 * dy), px(x[i - 1] + t1 * dx),
+            py(y[i - 1] + t1 * dy), c, thickness);
+  }
 }
 
 void Chart::marker(double x, double y, Rgb c, const std::string& label, double radius) {
