@@ -11,6 +11,7 @@
 #include "apps/scan.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
+#include "apps/vts_sim.h"
 #include "apps/vts_static.h"
 #include "apps/vts_track.h"
 #include "sensor/cell.h"
@@ -48,6 +49,8 @@ int run(int argc, char** argv) {
   CLI::App* track = vts::apps::add_track_command(app, track_exit);  // runs from its callback
   int static_exit = vts::cli::kExitOk;
   CLI::App* static_cmd = vts::apps::add_static_command(app, static_exit);  // runs from its callback
+  int sim_exit = vts::cli::kExitOk;
+  CLI::App* sim = vts::apps::add_sim_command(app, sim_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -70,6 +73,7 @@ int run(int argc, char** argv) {
   if (track->parsed()) return track_exit;
   if (static_cmd->parsed()) return static_exit;
   if (sensors->parsed()) return sensors_exit;
+  if (sim->parsed()) return sim_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

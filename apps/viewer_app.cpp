@@ -74,7 +74,9 @@ Pose laser_from_camera(const ScannerDesc& desc) {
 }  // namespace
 
 App::App(const AppOptions& options, Renderer& renderer) : options_(options), renderer_(renderer) {
-  if (!options.scene.empty()) {
+  if (options.given_cell) {
+    load(*options.given_cell, options.given_label);
+  } else if (!options.scene.empty()) {
     Cell cell;
     try {
       cell = load_scene(options.scene);
@@ -144,6 +146,7 @@ void App::load_builtin(const std::string& name) {
     status_ = "unknown cell " + name;
     return;
   }
+  drive_torch = nullptr;
   load(std::move(*cell), name);
 }
 
@@ -266,9 +269,10 @@ void App::update(const MotionInput& held, double dt_s) {
   MotionInput motion = held;
   if (auto_travel) motion.translate.x() = std::clamp(motion.translate.x() + 1.0, -1.0, 1.0);
   const Pose from = world_from_torch_;
-  const Pose to = motion.any()
-                      ? move_torch(from, motion, speed_mm_s, turn_deg_s, used_s, world_axes && !auto_travel)
-                      : from;
+  Pose to = motion.any()
+                ? move_torch(from, motion, speed_mm_s, turn_deg_s, used_s, world_axes && !auto_travel)
+                : from;
+  if (drive_torch) to = drive_torch(clock_.time_s).value_or(from);
   world_from_torch_ = to;
 
   requests_.clear();

@@ -7,6 +7,8 @@
 // are uploaded on load), nothing of the window.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +34,9 @@ struct AppOptions {
   std::filesystem::path scene;    // scene file (docs/SCENE_FORMAT.md)
   std::filesystem::path record;   // first recording's file; empty: a timestamped name
   std::uint64_t seed = 0;         // seed of the error model's random draws
+  // A cell given directly instead of cell/scene (vts-view --sim), and its label.
+  std::shared_ptr<const Cell> given_cell;
+  std::string given_label;
 };
 
 class App {
@@ -50,6 +55,10 @@ class App {
   // simulated clock waits for it.
   void update(const MotionInput& held, double dt_s);
   bool sync_scans = false;
+  // When set, the torch follows this instead of the keys: its pose at a
+  // simulated time (vts-view --sim), or empty to stay. Cleared when another
+  // built-in cell is loaded.
+  std::function<std::optional<Pose>(double time_s)> drive_torch;
   // A non-motion key press (see key_table()).
   void press(Key key);
   bool quit_requested() const { return quit_; }

@@ -27,6 +27,10 @@
 #include "apps/viewer_panel.h"
 #include "render/viewer_renderer.h"
 #include "sensor/presets.h"
+#include "sensor/reference_source.h"
+#include "sensor/sim_cell.h"
+#include "sensor/virtual_sensor.h"
+#include "tracker/master.h"
 
 namespace {
 
@@ -61,7 +65,71 @@ struct Options {
   std::string sensor;
   std::string material;
   bool ideal = false;
+  bool sim = false;
 };
+
+// vts-view --sim: the run of `vts sim --source reference` for the same seed,
+// sensor and material (docs/SIM.md), computed up front; the viewer then
+// drives the torch through the master's poses on its own clock and scans
+// live. The box cell is shown as two workpieces, one per seam, so that both
+// seams are drawn.
+struct SimView {
+  std::shared_ptr<const vts::Cell> cell;
+  std::vector<vts::tracker::MasterSample> samples;
+  double dt_s = 0.05;
+  std::string summary;
+};
+
+SimView run_sim_for_view(const Options& o) {
+  namespace tk = vts::tracker;
+  vts::ScannerDesc scanner;
+  if (!o.sensor.empty()) vts::set_sensor_fields(scanner, *vts::sensor_preset(o.sensor));
+  if (!o.material.empty()) vts::apply_material(scanner, o.material);
+  scanner.ideal = o.ideal;
+  vts::SimCellParams params;
+  params.seed = o.app.seed;
+  params.standoff_mm = vts::sim_standoff_mm(scanner);
+  const vts::SimCell sim = vts::build_sim_cell(params);
+  scanner.tool_from_laser = sim.tool_from_laser;
+  auto source = vts::make_reference_source(scanner, sim.mesh);
+  tk::SensorUnit sensor(std::make_unique<vts::VirtualProfileStream>(*source, params.seed),
+                        vts::sim_tracker_params(scanner, params.standoff_mm));
+  tk::Master master(vts::sim_master_params(sim, 10.0, scanner.rate_hz));
+  tk::MasterResult result = master.run(sensor, sim.nominal_world_from_workpiece, sim.plan);
+  const auto metrics = vts::evaluate(sim, result);
+
+  auto cell = std::make_shared<vts::Cell>();
+  cell->name = "sim-box";
+  cell->scanner = scanner;
+  const double h = 0.5 * params.box_side_mm, ph = 0.5 * params.plate_side_mm;
+  auto block = [](double x0, double x1, double y0, double y1, double z0, double z1) {
+    return vts::Plate{{{y0, z0}, {y1, z0}, {y1, z1}, {y0, z1}}, x0, x1};
+  };
+  // Seam 1's workpiece: the joint frame at seam 1's start, x along it.
+  vts::Workpiece w1;
+  w1.params.length_mm = sim.truth[0].length();
+  w1.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(-h, -h, 0.0);
+  w1.plates = {block(h - ph, h + ph, h - ph, h + ph, -params.plate_thickness_mm, 0.0),
+               block(0.0, 2.0 * h, 0.0, 2.0 * h, 0.0, params.box_height_mm)};
+  // Seam 2's: no plates, only its seam line.
+  vts::Workpiece w2;
+  w2.params.length_mm = sim.truth[1].length();
+  w2.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(h, -h, 0.0) *
+                        Eigen::AngleAxisd(0.5 * 3.14159265358979323846, vts::Vec3::UnitZ());
+  cell->workpieces = {w1, w2};
+  SimView view;
+  view.samples = std::move(result.samples);
+  view.dt_s = 1.0 / scanner.rate_hz;
+  cell->path.start = view.samples.front().world_from_tool * scanner.tool_from_laser;
+  cell->path.direction = (sim.truth[0].end - sim.truth[0].start).normalized();
+  view.cell = cell;
+  char line[256];
+  std::snprintf(line, sizeof line, "sim (seed %llu): rms lateral %.4f / %.4f mm, max %.4f / %.4f mm",
+                static_cast<unsigned long long>(params.seed), metrics[0].rms_lateral_mm,
+                metrics[1].rms_lateral_mm, metrics[0].max_error_mm, metrics[1].max_error_mm);
+  view.summary = line;
+  return view;
+}
 
 std::pair<int, int> parse_size(const std::string& text) {
   int w = 0, h = 0;
@@ -171,6 +239,12 @@ int run(int argc, char** argv) {
                     ->type_name("FILE");
   cell->excludes(scene);
   scene->excludes(cell);
+  auto* sim = cli.add_flag("--sim", o.sim,
+                           "Show the run of `vts sim` (docs/SIM.md): the master welding the box cell's two "
+                           "seams, with --seed (default 1 here), --sensor, --material and --ideal as there; the torch follows "
+                           "the master's poses on the viewer's clock, the keys only move the camera");
+  sim->excludes(cell);
+  sim->excludes(scene);
   cli.add_option("--source", o.source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
       ->type_name("KIND");
   cli.add_option("--sensor", o.sensor,
@@ -212,6 +286,8 @@ int run(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
 
+  // vts sim's default seed, so that `vts-view --sim` shows `vts sim`'s run.
+  if (o.sim && cli.count("--seed") == 0) o.app.seed = 1;
   std::vector<KeyFrame> script;
   int width = 0, height = 0;
   try {
@@ -304,7 +380,13 @@ int run(int argc, char** argv) {
 
   Renderer renderer;
   std::unique_ptr<App> app;
+  SimView sim_view;
   try {
+    if (o.sim) {
+      sim_view = run_sim_for_view(o);
+      o.app.given_cell = sim_view.cell;
+      o.app.given_label = "sim-box";
+    }
     app = std::make_unique<App>(o.app, renderer);
   } catch (const std::runtime_error& e) {
     std::cerr << "vts-view: " << e.what() << "\n";
@@ -317,6 +399,16 @@ int run(int argc, char** argv) {
   // Scripted runs wait for each frame's scans, so their pictures do not
   // depend on the machine's speed; --fps measures the interactive behaviour.
   app->sync_scans = scripted && !o.fps;
+  if (o.sim) {
+    app->drive_torch = [&sim_view](double t) -> std::optional<vts::Pose> {
+      const auto& s = sim_view.samples;
+      if (s.empty()) return std::nullopt;
+      // Sample k is the master's cycle k + 1, at time (k + 1) dt.
+      const long k = std::clamp(std::lround(t / sim_view.dt_s) - 1, 0L, static_cast<long>(s.size()) - 1);
+      return s[static_cast<std::size_t>(k)].world_from_tool;
+    };
+    app->set_status(sim_view.summary);
+  }
 
   using Clock = std::chrono::steady_clock;
   auto last = Clock::now();
@@ -403,6 +495,17 @@ int run(int argc, char** argv) {
       last_status = app->status();
       if (last_status.rfind("wrote ", 0) == 0 || last_status.rfind("recording", 0) == 0)
         std::printf("vts-view: %s\n", last_status.c_str());
+    }
+    if (o.sim && !sim_view.samples.empty() && !app->recording()) {
+      const auto& s = sim_view.samples;
+      const long k = std::clamp(std::lround(app->sim_time_s() / sim_view.dt_s) - 1, 0L,
+                                static_cast<long>(s.size()) - 1);
+      const auto& smp = s[static_cast<std::size_t>(k)];
+      const std::string where = smp.seam < 0 ? std::string("done")
+                                             : "seam " + std::to_string(smp.seam + 1) + ", " +
+                                                   std::string(vts::tracker::to_string(smp.phase)) + ", sensor " +
+                                                   std::string(vts::tracker::to_string(smp.sensor));
+      app->set_status(where + " | " + sim_view.summary);
     }
     const double dt = scripted && !o.fps ? kScriptedFrameS : std::min(real_dt, kMaxFrameS);
     app->update(motion, frame == 0 ? kScriptedFrameS : dt);

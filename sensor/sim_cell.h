@@ -1,0 +1,119 @@
+#pragma once
+// The cell of the paper's dynamic experiment (section 5.2): a square box on a
+// bottom plate, welded along two of its sides (two fillet seams meeting at a
+// corner of the box). The master knows the nominal workpiece pose; the actual
+// pose is displaced from it by a seeded random rigid motion. Ground truth: the
+// analytic seam lines of the actual workpiece.
+//
+// Workpiece frame: origin at the centre of the plate's top face, z up (out of
+// the plate), the box's sides along x and y. Seam 1 runs along the box's -y
+// side from x = -side/2 to +side/2; seam 2 along its +x side from y = -side/2
+// to +side/2 (it starts at the corner where seam 1 ends).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sensor/mesh.h"
+#include "sensor/pose.h"
+#include "sensor/scanner.h"
+#include "tracker/master.h"
+
+namespace vts {
+
+struct SimCellParams {
+  double box_side_mm = 150.0;    // the box's square footprint
+  double box_height_mm = 80.0;
+  double plate_side_mm = 320.0;  // the bottom plate's square footprint
+  double plate_thickness_mm = 8.0;
+  // Nominal pose of the workpiece in the world (what the master believes).
+  Pose nominal_world_from_workpiece = pose_from_xyz_rpy(Vec3(600.0, 200.0, 0.0), Vec3(0.0, 0.0, 30.0));
+  // The actual pose: the nominal one turned about the workpiece origin by a
+  // random angle in [0, rotation_deg] about a random axis, then translated by
+  // a random vector of length <= offset_mm (uniform in the ball).
+  double offset_mm = 10.0;
+  double rotation_deg = 5.0;
+  std::uint64_t seed = 1;
+  // Deviations of the actual part from the model, for robustness runs:
+  // the box is this much shorter along x (seam 1 ends early; seam 2 moves in);
+  double seam1_short_mm = 0.0;
+  // the box is tilted about its bottom edge at x = -side/2 so that the gap
+  // under seam 1's wall grows linearly from 0 to this at the seam's end.
+  double seam1_gap_rise_mm = 0.0;
+  // Sensor mount: the laser plane lookahead_mm ahead of the TCP, the laser
+  // origin standoff_mm back along the torch axis (= the optical axis).
+  double lookahead_mm = 50.0;
+  double standoff_mm = 100.0;
+};
+
+// Empty if usable, else a message naming the field and value.
+std::string validate(const SimCellParams& params);
+
+// One seam of the actual workpiece, world frame (mm).
+struct SimSeamTruth {
+  Vec3 start = Vec3::Zero();
+  Vec3 end = Vec3::Zero();
+  Vec3 plate_normal = Vec3::UnitZ();  // unit, out of the plate
+  Vec3 wall_normal = -Vec3::UnitY();  // unit, the wall's open-side face, out of the box
+  Vec3 direction() const { return (end - start).normalized(); }
+  double length() const { return (end - start).norm(); }
+  // Across the seam in the plate, towards the open side (unit).
+  Vec3 lateral() const;
+};
+
+struct SimCell {
+  SimCellParams params;
+  Pose nominal_world_from_workpiece = Pose::Identity();
+  Pose actual_world_from_workpiece = Pose::Identity();
+  std::vector<tracker::SeamPlan> plan;  // the master's model, workpiece frame
+  std::vector<SimSeamTruth> truth;      // the actual seams, world
+  Mesh mesh;                            // the actual workpiece, world
+  Pose tool_from_laser = Pose::Identity();
+};
+
+// Precondition: validate(params) is empty.
+SimCell build_sim_cell(const SimCellParams& params);
+
+// A standoff suiting the sensor: 100 mm (the paper's static setup B is 103 mm)
+// for sensors with a deep window, else the middle of its depth of field.
+double sim_standoff_mm(const ScannerDesc& scanner);
+
+// Tracker parameters for the cell's fillets seen by `scanner` (surface
+// tolerance from the depth noise at the standoff).
+tracker::TrackerParams sim_tracker_params(const ScannerDesc& scanner, double standoff_mm);
+// Master parameters for the cell (mount, speed, control at the sensor rate).
+tracker::MasterParams sim_master_params(const SimCell& cell, double speed_mm_s, double rate_hz);
+
+// Tracking error of one seam against its truth. Lateral: along
+// SimSeamTruth::lateral(); vertical: along the plate normal; both of the TCP
+// from the nearest point of the true seam line, over the weld samples.
+struct SeamMetrics {
+  bool welded = false;  // start found and some welding done
+  bool start_found = false, end_found = false, lost = false;
+  std::string failure;
+  int samples = 0;
+  double rms_lateral_mm = 0.0;
+  double rms_vertical_mm = 0.0;
+  double max_error_mm = 0.0;    // largest distance of the TCP from the true seam line (across it)
+  double start_error_mm = 0.0;  // weld start (TCP) to the true start
+  double end_error_mm = 0.0;    // weld end (TCP) to the true end
+  double start_along_mm = 0.0;  // the start error's part along the seam (> 0: started late)
+  double end_along_mm = 0.0;    // the end error's part along the seam (> 0: ended past the end)
+  double search_mm = 0.0;
+  double welded_mm = 0.0;
+  int points = 0, rejected_points = 0, refits = 0;
+  // The sensor's own accuracy: rms distance of the track points the master
+  // accepted from the true seam line (before the seam object's fit).
+  double sensor_rms_mm = 0.0;
+};
+
+// TCP error against a seam: lateral, vertical (mm), and the nearest point of
+// the true seam line.
+struct PointError {
+  double lateral_mm = 0.0, vertical_mm = 0.0;
+  Vec3 true_point = Vec3::Zero();
+};
+PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp);
+
+std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result);
+
+}  // namespace vts

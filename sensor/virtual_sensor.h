@@ -1,0 +1,44 @@
+#pragma once
+// The virtual sensor head behind the sensor interface (tracker/sensor_interface.h):
+// scans the cell through a vts::ProfileSource (raster emulator or ray-cast
+// reference) with the laser mounted on the tool at ScannerDesc::tool_from_laser,
+// and turns each ideal profile into a measured one with the error model.
+// Wrap it in a tracker::SensorUnit to get the sensor interface.
+#include <cstdint>
+#include <functional>
+
+#include "sensor/error_model.h"
+#include "sensor/profile_source.h"
+#include "tracker/sensor_interface.h"
+
+namespace vts {
+
+class VirtualProfileStream final : public tracker::ProfileStream {
+ public:
+  // `source` must outlive the stream; its scanner() is the sensor (rate,
+  // mount, error model switch). seed: the error model's draws (ScanState).
+  VirtualProfileStream(ProfileSource& source, std::uint64_t seed);
+
+  bool acquire(std::int64_t index, double time_s, const Pose& world_from_tool,
+               tracker::SensorProfile& out) override;
+  double rate_hz() const override { return source_.scanner().rate_hz; }
+  const Pose& tool_from_sensor() const override { return source_.scanner().tool_from_laser; }
+
+  // Called with every measured profile before it is delivered: `alter` may
+  // change it (tests inject faults), then `record` sees the final profile.
+  std::function<void(Profile&)> alter;
+  std::function<void(const Profile&)> record;
+
+  const ScanState& scan_state() const { return state_; }
+  const Profile& last_measured() const { return measured_; }
+
+ private:
+  ProfileSource& source_;
+  ScanState state_;
+  Profile ideal_, measured_;
+};
+
+// Copies the measured points, pose, time and index of a vts::Profile.
+void to_sensor_profile(const Profile& p, tracker::SensorProfile& out);
+
+}  // namespace vts

@@ -1,0 +1,169 @@
+// `vts sim` end to end: runs bin/vts in a fresh temporary directory, reads
+// the JSON summary and the files it writes back. The reference source needs
+// no GL; the raster run is tagged [gl].
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "sensor/profile_exr.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+const fs::path kVtsBin = fs::path(VTS_BIN_DIR) / "vts";
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct SimDir {
+  fs::path path;
+  SimDir() {
+    static std::atomic<int> counter{0};
+    path = fs::temp_directory_path() /
+           ("vts_sim_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~SimDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+struct SimResult {
+  int code = -1;
+  std::string out, err;
+};
+
+SimResult run_sim_cli(const SimDir& dir, const std::string& args) {
+  const std::string cmd = "cd '" + dir.path.string() + "' && '" + kVtsBin.string() + "' sim " + args +
+                          " > stdout.txt 2> stderr.txt < /dev/null";
+  const int status = std::system(cmd.c_str());
+  SimResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(dir.path / "stdout.txt");
+  r.err = read_text(dir.path / "stderr.txt");
+  return r;
+}
+
+void check_targets(const Json& j) {
+  REQUIRE(j.at("seams").size() == 2);
+  for (const Json& s : j.at("seams")) {
+    INFO(s.dump());
+    CHECK(s.at("start_found").get<bool>());
+    CHECK(s.at("end_found").get<bool>());
+    CHECK(s.at("rms_lateral_mm").get<double>() <= 0.1);
+    CHECK(s.at("rms_vertical_mm").get<double>() <= 0.1);
+    CHECK(s.at("max_error_mm").get<double>() <= 0.3);
+    CHECK(s.at("start_error_mm").get<double>() <= 0.5);
+    CHECK(s.at("end_error_mm").get<double>() <= 1.0);
+  }
+  CHECK(j["seams"][1]["search_mm"].get<double>() < j["seams"][0]["search_mm"].get<double>());
+}
+
+}  // namespace
+
+TEST_CASE("vts sim: JSON summary and output files (reference source)", "[cli][sim]") {
+  SimDir dir;
+  const SimResult r = run_sim_cli(dir, "--source reference --seed 5 --json --out-dir out");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  // One JSON object on one line.
+  REQUIRE(r.out.find('\n') == r.out.size() - 1);
+  const Json j = Json::parse(r.out);
+  CHECK(j.at("source") == "reference");
+  CHECK(j.at("seed") == 5);
+  CHECK(j.at("error_model") == true);
+  CHECK(j.at("workpiece_offset_mm").get<double>() <= 10.0);
+  CHECK(j.at("workpiece_rotation_deg").get<double>() <= 5.0);
+  check_targets(j);
+
+  const fs::path out = dir.path / "out";
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  CHECK(names == std::vector<std::string>{"profiles.exr", "timeseries.csv", "tracking_error.png"});
+
+  const std::string csv = read_text(out / "timeseries.csv");
+  CHECK(csv.rfind("time_s,seam,phase,sensor_state,tcp_x_mm", 0) == 0);
+  CHECK(csv.find(",weld,") != std::string::npos);
+  CHECK(csv.find(",searching,") != std::string::npos);
+  CHECK(csv.find(",end-found,") != std::string::npos);
+
+  const vts::ProfileRecording rec = vts::read_profile_exr(out / "profiles.exr");
+  CHECK(static_cast<long long>(rec.profiles.size()) >= j.at("profiles").get<long long>());
+  CHECK(rec.info.error_model);
+  for (std::size_t i = 0; i < rec.profiles.size(); ++i) REQUIRE(rec.profiles[i].index == static_cast<long long>(i));
+
+  const std::string png = read_text(out / "tracking_error.png");
+  REQUIRE(png.size() > 8);
+  CHECK(png.compare(1, 3, "PNG") == 0);
+
+  // The master on the recording of this run: the same figures.
+  const SimResult replay =
+      run_sim_cli(dir, "--replay out/profiles.exr --seed 5 --json --out-dir replayed");
+  INFO(replay.err);
+  REQUIRE(replay.code == 0);
+  const Json jr = Json::parse(replay.out);
+  CHECK(jr.at("source") == "replay");
+  for (int k = 0; k < 2; ++k)
+    for (const char* key : {"rms_lateral_mm", "rms_vertical_mm", "max_error_mm", "start_error_mm",
+                            "end_error_mm", "search_mm"})
+      CHECK(jr["seams"][k][key].get<double>() == j["seams"][k][key].get<double>());
+  CHECK_FALSE(fs::exists(dir.path / "replayed" / "profiles.exr"));
+}
+
+TEST_CASE("vts sim: a replay at another speed is refused clearly", "[cli][sim]") {
+  SimDir dir;
+  REQUIRE(run_sim_cli(dir, "--source reference --seed 5 --rate 40 --out-dir out").code == 0);
+  // The master moves differently from the recorded run: the recorded sensor says so.
+  const SimResult r = run_sim_cli(dir, "--replay out/profiles.exr --seed 5 --speed 12 --out-dir other");
+  CHECK(r.code == 1);
+  CHECK(r.out.find("did not move as in the recorded run") != std::string::npos);
+}
+
+TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][sim]") {
+  SimDir dir;
+  const std::pair<const char*, const char*> cases[] = {
+      {"--speed abc", "--speed = 'abc'"},        {"--speed 0", "--speed = '0'"},
+      {"--rate 20000", "--rate = '20000'"},      {"--offset 30", "--offset = '30'"},
+      {"--rotation -1", "--rotation = '-1'"},    {"--source gpu", "--source = 'gpu'"},
+      {"--seed x1", "--seed = 'x1'"},            {"--sensor nope", "--sensor = 'nope'"},
+      {"--material glass", "--material = 'glass'"}, {"--replay missing.exr", "--replay = 'missing.exr'"},
+  };
+  for (const auto& [args, message] : cases) {
+    const SimResult r = run_sim_cli(dir, std::string(args) + " --out-dir out");
+    INFO(args << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(message) != std::string::npos);
+  }
+  // Nothing was created.
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST_CASE("vts sim: the default raster run meets the targets", "[cli][sim][gl]") {
+  SimDir dir;
+  const SimResult r = run_sim_cli(dir, "--json --out-dir out");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const Json j = Json::parse(r.out);
+  CHECK(j.at("source") == "raster");
+  check_targets(j);
+}

@@ -1,0 +1,414 @@
+#include "tracker/master.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+namespace vts::tracker {
+
+std::string_view to_string(Phase p) {
+  switch (p) {
+    case Phase::Move: return "move";
+    case Phase::Search: return "search";
+    case Phase::Approach: return "approach";
+    case Phase::Weld: return "weld";
+    case Phase::Done: return "done";
+  }
+  return "?";
+}
+
+void SeamObject::reset(const Vec3& origin, const Vec3& direction_guess) {
+  origin_ = origin;
+  guess_ = direction_guess.normalized();
+  points_.clear();
+  arcs_.clear();
+  sum_.setZero();
+  sum_outer_.setZero();
+  span_ = 0.0;
+}
+
+Vec3 SeamObject::direction() const {
+  if (points_.size() < 2 || span_ < 2.0) return guess_;
+  const double n = static_cast<double>(points_.size());
+  const Vec3 mean = sum_ / n;
+  const Eigen::Matrix3d cov = sum_outer_ / n - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Vec3 d = eig.eigenvectors().col(2).normalized();
+  return d.dot(guess_) < 0.0 ? Vec3(-d) : d;
+}
+
+Vec3 SeamObject::centroid() const {
+  return points_.empty() ? origin_ : Vec3(origin_ + sum_ / static_cast<double>(points_.size()));
+}
+
+double SeamObject::max_arc() const {
+  if (points_.empty()) return 0.0;
+  const Vec3 d = direction();
+  double m = -std::numeric_limits<double>::infinity();
+  // Points arrive in order along the seam: the last few hold the maximum.
+  const std::size_t from = points_.size() > 16 ? points_.size() - 16 : 0;
+  for (std::size_t i = from; i < points_.size(); ++i) m = std::max(m, (points_[i] - origin_).dot(d));
+  return m;
+}
+
+Vec3 SeamObject::at(double s, double window_mm) const {
+  const Vec3 d = direction();
+  // Arcs stored at insertion are nearly sorted and nearly the current ones:
+  // find the window with slack, then test exactly.
+  constexpr double kSlackMm = 2.0;
+  const auto first = std::partition_point(arcs_.begin(), arcs_.end(),
+                                          [&](double a) { return a < s - window_mm - kSlackMm; });
+  double sw = 0.0, st = 0.0, stt = 0.0;
+  Vec3 sp = Vec3::Zero(), stp = Vec3::Zero();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (auto it = first; it != arcs_.end() && *it <= s + window_mm + kSlackMm; ++it) {
+    const Vec3& p = points_[static_cast<std::size_t>(it - arcs_.begin())];
+    const double t = (p - origin_).dot(d) - s;
+    if (std::abs(t) > window_mm) continue;
+    sw += 1.0;
+    st += t;
+    stt += t * t;
+    sp += p;
+    stp += t * p;
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  // p(t) = a + b t by least squares; the seam at s is a.
+  const double det = sw * stt - st * st;
+  if (sw >= 3.0 && hi - lo >= 1.0 && det > 1e-9) return (stt * sp - st * stp) / det;
+  if (points_.size() >= 2) {
+    const Vec3 c = centroid();
+    return c + (s - (c - origin_).dot(d)) * d;
+  }
+  return origin_ + s * d;
+}
+
+bool SeamObject::add(const Vec3& p, double window_mm, double gate_mm, int gate_after) {
+  if (size() >= gate_after) {
+    const Vec3 predicted = at(arc(p), window_mm);
+    if ((p - predicted).norm() > gate_mm) return false;
+  } else {
+    // Too few points for a fit: the point must lie near the line from the
+    // start point along the current direction, allowing for a direction off
+    // by up to about 11 degrees.
+    const Vec3 d = direction();
+    const Vec3 r = p - origin_;
+    if ((r - r.dot(d) * d).norm() > gate_mm + 0.2 * std::abs(r.dot(d))) return false;
+  }
+  const Vec3 q = p - origin_;  // sums relative to the origin, for precision
+  sum_ += q;
+  sum_outer_ += q * q.transpose();
+  span_ = std::max(span_, (p - origin_).norm());
+  points_.push_back(p);
+  arcs_.push_back(arc(p));  // with the sums and the count including p
+  // Keep the stored arcs sorted (points come nearly in order).
+  for (std::size_t i = arcs_.size() - 1; i > 0 && arcs_[i] < arcs_[i - 1]; --i) {
+    std::swap(arcs_[i], arcs_[i - 1]);
+    std::swap(points_[i], points_[i - 1]);
+  }
+  return true;
+}
+
+Eigen::Matrix3d tool_rotation(const Vec3& direction, const Vec3& plate_normal, const Vec3& wall_normal) {
+  const Vec3 x = direction.normalized();
+  Vec3 z = -(plate_normal + wall_normal).normalized();
+  z = (z - z.dot(x) * x).normalized();
+  Eigen::Matrix3d r;
+  r.col(0) = x;
+  r.col(1) = z.cross(x);
+  r.col(2) = z;
+  return r;
+}
+
+Pose3 recalibrate(const Pose3& believed, const SeamPlan& seam, const Vec3& start, const Vec3& end,
+                  const Vec3& measured_plate_normal, const Vec3& measured_wall_normal) {
+  const Eigen::Matrix3d rb = believed.linear();
+  const Vec3 d_b = rb * (seam.end_mm - seam.start_mm).normalized();
+  const Vec3 d_m = (end - start).normalized();
+  // Rotation taking the believed directions onto the measured ones (Kabsch);
+  // the seam direction has the longest baseline and weighs most.
+  Eigen::Matrix3d h = 2.0 * d_m * d_b.transpose();
+  const Vec3 np_b = rb * seam.plate_normal, nw_b = rb * seam.wall_normal;
+  if (measured_plate_normal.norm() > 0.5) h += measured_plate_normal.normalized() * np_b.transpose();
+  if (measured_wall_normal.norm() > 0.5) h += measured_wall_normal.normalized() * nw_b.transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d fix = Eigen::Matrix3d::Identity();
+  fix(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d r = svd.matrixU() * fix * svd.matrixV().transpose();
+  Pose3 out = Pose3::Identity();
+  out.linear() = r * rb;
+  out.translation() = 0.5 * (start + end) - out.linear() * (0.5 * (seam.start_mm + seam.end_mm));
+  return out;
+}
+
+namespace {
+
+bool has(const std::vector<Event>& events, Event e) {
+  return std::find(events.begin(), events.end(), e) != events.end();
+}
+
+// Unit normal of the surface spanned by the seam direction d and the in-surface
+// direction u, signed like `like`; zero if u is missing.
+Vec3 surface_normal(const Vec3& d, const Vec3& u, const Vec3& like) {
+  if (u.norm() < 1e-9) return Vec3::Zero();
+  Vec3 n = d.cross(u.normalized());
+  if (n.norm() < 1e-6) return Vec3::Zero();
+  n.normalize();
+  return n.dot(like) < 0.0 ? Vec3(-n) : n;
+}
+
+}  // namespace
+
+MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpiece,
+                         const std::vector<SeamPlan>& seams,
+                         const std::function<void(const MasterSample&)>& on_cycle) {
+  const MasterParams& P = params_;
+  MasterResult res;
+  Pose3 believed = world_from_workpiece;
+  bool recalibrated = false;
+  const double dt = 1.0 / P.control_rate_hz;
+  const double step = P.speed_mm_s * dt;
+  std::int64_t cycle = 0;
+  Pose3 tool = Pose3::Identity();
+  double now = 0.0;
+
+  auto tick = [&](int seam, Phase phase, double s) {
+    ++cycle;
+    now = static_cast<double>(cycle) * dt;
+    std::vector<Event> events = sensor.advance(now, tool);
+    MasterSample smp;
+    smp.time_s = now;
+    smp.seam = seam;
+    smp.phase = phase;
+    smp.sensor = sensor.state();
+    smp.world_from_tool = tool;
+    smp.s_mm = s;
+    res.samples.push_back(smp);
+    if (on_cycle) on_cycle(smp);
+    return events;
+  };
+
+  for (int k = 0; k < static_cast<int>(seams.size()); ++k) {
+    res.world_from_workpiece.push_back(believed);
+    SeamRun run;
+    const SeamPlan& plan = seams[k];
+    const Vec3 s_plan = believed * plan.start_mm, e_plan = believed * plan.end_mm;
+    const Vec3 d_plan = (e_plan - s_plan).normalized();
+    const double length = (e_plan - s_plan).norm();
+    const Vec3 np = believed.linear() * plan.plate_normal, nw = believed.linear() * plan.wall_normal;
+    // After re-calibration the start is known to well under a profile step:
+    // put it halfway between two profiles' laser planes, where the middle
+    // of the bracketing planes (the sensor's estimate) hits it best.
+    const double margin =
+        recalibrated ? P.search_margin_recalibrated_mm + 0.5 * step : P.search_margin_mm;
+
+    // Move to the search pose: the laser plane `margin` before the planned start.
+    tool.linear() = tool_rotation(d_plan, np, nw);
+    Vec3 begin = s_plan - (margin + P.lookahead_mm) * d_plan;
+    tool.translation() = begin;
+    tick(k, Phase::Move, 0.0);
+
+    auto finish = [&] {
+      if (sensor.state() != SensorState::Idle) sensor.laser_off();
+      res.seams.push_back(run);
+    };
+    if (!sensor.laser_on()) {
+      run.failure = "the laser did not come on: " + sensor.error();
+      finish();
+      continue;
+    }
+
+    // Search along the planned seam.
+    bool found = false;
+    for (int attempt = 0; attempt <= P.max_search_retries && !found && run.failure.empty(); ++attempt) {
+      sensor.search_start();
+      double travelled = 0.0;
+      const double limit = 2.0 * margin + P.search_extra_mm;
+      while (true) {
+        tool.translation() += step * d_plan;
+        travelled += step;
+        run.search_mm += step;
+        const std::vector<Event> ev = tick(k, Phase::Search, 0.0);
+        if (has(ev, Event::StartFound)) {
+          found = true;
+          break;
+        }
+        if (has(ev, Event::StreamEnded)) {
+          run.failure = "the sensor stopped during the search: " + sensor.error();
+          break;
+        }
+        if (has(ev, Event::StartBehind)) {
+          // The joint was there from the first profile: back off and search again.
+          begin -= P.search_margin_mm * d_plan;
+          tool.translation() = begin;
+          tick(k, Phase::Move, 0.0);
+          if (attempt == P.max_search_retries) run.failure = "the start point lies behind every search";
+          break;
+        }
+        if (travelled > limit) {
+          run.failure = "no start point within " + std::to_string(limit) + " mm of search";
+          break;
+        }
+      }
+    }
+    if (!found) {
+      finish();
+      continue;
+    }
+    run.start_found = true;
+    run.start_point = *sensor.start_point();
+    sensor.start_tracking();
+
+    SeamObject obj;
+    obj.reset(run.start_point, d_plan);
+    std::int64_t last_index = -1;
+    Vec3 plate_dir = Vec3::Zero(), wall_dir = Vec3::Zero();
+    std::optional<Vec3> stop_point;
+    Vec3 last_accepted = run.start_point;
+    bool end_requested = false;
+
+    std::vector<Vec3> rejected;  // joint data rejected in a row
+    auto poll = [&] {
+      const auto j = sensor.latest_joint(now);
+      if (!j || j->profile_index == last_index) return;
+      last_index = j->profile_index;
+      if (!obj.add(j->track_point_world, P.fit_window_mm, P.gate_mm, P.gate_after)) {
+        ++run.rejected_points;
+        rejected.push_back(j->track_point_world);
+        if (static_cast<int>(rejected.size()) < P.refit_after_rejections) return;
+        // As many points in a row off the seam object, and consistent with
+        // one another: the seam object went wrong (a false point early on),
+        // not the sensor. Start it again from the rejected points.
+        const Vec3 span = rejected.back() - rejected.front();
+        bool consistent = span.norm() > 1e-6;
+        for (const Vec3& p : rejected) {
+          const Vec3 r = p - rejected.front();
+          consistent = consistent && (r - r.dot(span.normalized()) * span.normalized()).norm() <= P.gate_mm;
+        }
+        if (!consistent) {
+          rejected.erase(rejected.begin());
+          return;
+        }
+        // Its origin: the start point moved onto the rejected points' line.
+        const Vec3 u = span.normalized().dot(obj.direction()) < 0.0 ? Vec3(-span.normalized()) : span.normalized();
+        const Vec3 c = rejected.front();
+        obj.reset(c + (run.start_point - c).dot(u) * u, u);
+        constexpr double kNoGate = std::numeric_limits<double>::infinity();
+        for (const Vec3& p : rejected) obj.add(p, P.fit_window_mm, kNoGate, P.gate_after);
+        run.track_points.insert(run.track_points.end(), rejected.begin(), rejected.end() - 1);
+        run.points += static_cast<int>(rejected.size()) - 1;
+        run.rejected_points -= static_cast<int>(rejected.size());
+        ++run.refits;
+        rejected.clear();
+      } else {
+        rejected.clear();
+      }
+      ++run.points;
+      run.track_points.push_back(j->track_point_world);
+      last_accepted = j->track_point_world;
+      // The two surfaces' directions from the root (break points 0 and 4:
+      // the two plates' outer ends), for re-calibration.
+      for (int b : {0, 4}) {
+        if (!j->break_points[b]) continue;
+        const Vec2& yz = *j->break_points[b];
+        const Vec3 u = j->world_from_sensor * Vec3(0.0, yz.x(), yz.y()) - j->track_point_world;
+        if (u.norm() < 3.0) continue;
+        const Vec3 un = u.normalized();
+        if (std::abs(un.dot(nw)) > std::abs(un.dot(np)))
+          plate_dir += un.dot(nw) < 0.0 ? Vec3(-un) : un;
+        else
+          wall_dir += un.dot(np) < 0.0 ? Vec3(-un) : un;
+      }
+      if (!end_requested && sensor.state() == SensorState::Tracking &&
+          obj.arc(j->track_point_world) >= length - P.end_margin_mm) {
+        sensor.look_for_end();
+        end_requested = true;
+      }
+    };
+    auto handle = [&](const std::vector<Event>& ev) {
+      if (stop_point) return;
+      if (has(ev, Event::EndFound)) {
+        run.end_found = true;
+        run.end_point = *sensor.end_point();
+        stop_point = run.end_point;
+      } else if (has(ev, Event::SeamLost)) {
+        run.lost = true;
+        stop_point = last_accepted;
+      } else if (has(ev, Event::StreamEnded)) {
+        run.failure = "the sensor stopped while tracking: " + sensor.error();
+        stop_point = last_accepted;
+      } else {
+        return;
+      }
+      sensor.laser_off();
+    };
+    poll();
+    // The torch turns to the measured seam once the seam object is long
+    // enough for its direction to be better than the plan's.
+    auto travel_direction = [&] { return obj.max_arc() >= P.direction_span_mm ? obj.direction() : d_plan; };
+
+    // Approach the start while the sensor fills the buffer ahead.
+    const int approach_limit = static_cast<int>(4.0 * (P.lookahead_mm + 2.0 * margin + 50.0) / step) + 100;
+    for (int c = 0;; ++c) {
+      if (c > approach_limit) {
+        run.failure = "the approach to the start point did not converge";
+        break;
+      }
+      const Vec3 w0 = obj.at(0.0, P.fit_window_mm);
+      const Vec3 to = w0 - tool.translation();
+      tool.linear() = tool_rotation(travel_direction(), np, nw);
+      if (to.norm() <= step) {
+        tool.translation() = w0;
+      } else {
+        tool.translation() += step * to.normalized();
+      }
+      const std::vector<Event> ev = tick(k, Phase::Approach, 0.0);
+      poll();
+      handle(ev);
+      if (to.norm() <= step) break;
+    }
+
+    // Weld along the seam object.
+    run.weld_start = tool.translation();
+    double s = 0.0;
+    while (run.failure.empty()) {
+      const double s_stop = stop_point ? obj.arc(*stop_point) : std::numeric_limits<double>::infinity();
+      if (stop_point && s >= s_stop - 1e-9) break;
+      const double s_next = std::min(s + step, s_stop);
+      if (!stop_point && s_next > obj.max_arc()) {
+        run.failure = "the torch caught up with the sensor data at s = " + std::to_string(s) + " mm";
+        break;
+      }
+      if (s > 2.0 * length + 50.0) {
+        run.failure = "no end of seam within twice the planned length";
+        break;
+      }
+      s = s_next;
+      tool.translation() = obj.at(s, P.fit_window_mm);
+      tool.linear() = tool_rotation(travel_direction(), np, nw);
+      const std::vector<Event> ev = tick(k, Phase::Weld, s);
+      poll();
+      handle(ev);
+    }
+    run.weld_end = tool.translation();
+    run.welded_mm = s;
+    run.line_direction = obj.direction();
+    run.line_point = obj.centroid();
+    finish();
+
+    if (P.recalibrate && run.start_found && run.end_found && run.failure.empty()) {
+      const Vec3 d = obj.direction();
+      auto on_line = [&](const Vec3& p) { return run.line_point + (p - run.line_point).dot(d) * d; };
+      believed = recalibrate(believed, plan, on_line(run.start_point), on_line(run.end_point),
+                             surface_normal(d, plate_dir, np), surface_normal(d, wall_dir, nw));
+      recalibrated = true;
+    }
+  }
+  tick(-1, Phase::Done, 0.0);
+  return res;
+}
+
+}  // namespace vts::tracker
