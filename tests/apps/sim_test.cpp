@@ -17,51 +17,16 @@
 #include <nlohmann/json.hpp>
 
 #include "sensor/profile_exr.h"
+#include "vts_runner.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace vts_test;
 using Json = nlohmann::json;
 
-const fs::path kVtsBin = fs::path(VTS_BIN_DIR) / "vts";
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-struct SimDir {
-  fs::path path;
-  SimDir() {
-    static std::atomic<int> counter{0};
-    path = fs::temp_directory_path() /
-           ("vts_sim_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~SimDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-struct SimResult {
-  int code = -1;
-  std::string out, err;
-};
-
-SimResult run_sim_cli(const SimDir& dir, const std::string& args) {
-  const std::string cmd = "cd '" + dir.path.string() + "' && '" + kVtsBin.string() + "' sim " + args +
-                          " > stdout.txt 2> stderr.txt < /dev/null";
-  const int status = std::system(cmd.c_str());
-  SimResult r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = read_text(dir.path / "stdout.txt");
-  r.err = read_text(dir.path / "stderr.txt");
-  return r;
-}
+// `vts sim ARGS` in dir.
+Result run_sim_cli(const TempDir& dir, const std::string& args) { return run_vts(dir, "sim " + args); }
 
 void check_targets(const Json& j) {
   REQUIRE(j.at("seams").size() == 2);
@@ -81,8 +46,8 @@ void check_targets(const Json& j) {
 }  // namespace
 
 TEST_CASE("vts sim: JSON summary and output files (reference source)", "[cli][sim]") {
-  SimDir dir;
-  const SimResult r = run_sim_cli(dir, "--source reference --seed 5 --json --out-dir out");
+  TempDir dir;
+  const Result r = run_sim_cli(dir, "--source reference --seed 5 --json --out-dir out");
   INFO(r.err);
   REQUIRE(r.code == 0);
   // One JSON object on one line.
@@ -101,7 +66,7 @@ TEST_CASE("vts sim: JSON summary and output files (reference source)", "[cli][si
   std::sort(names.begin(), names.end());
   CHECK(names == std::vector<std::string>{"profiles.exr", "timeseries.csv", "tracking_error.png"});
 
-  const std::string csv = read_text(out / "timeseries.csv");
+  const std::string csv = slurp(out / "timeseries.csv");
   CHECK(csv.rfind("time_s,seam,phase,sensor_state,tcp_x_mm", 0) == 0);
   CHECK(csv.find(",weld,") != std::string::npos);
   CHECK(csv.find(",searching,") != std::string::npos);
@@ -112,12 +77,12 @@ TEST_CASE("vts sim: JSON summary and output files (reference source)", "[cli][si
   CHECK(rec.info.error_model);
   for (std::size_t i = 0; i < rec.profiles.size(); ++i) REQUIRE(rec.profiles[i].index == static_cast<long long>(i));
 
-  const std::string png = read_text(out / "tracking_error.png");
+  const std::string png = slurp(out / "tracking_error.png");
   REQUIRE(png.size() > 8);
   CHECK(png.compare(1, 3, "PNG") == 0);
 
   // The master on the recording of this run: the same figures.
-  const SimResult replay =
+  const Result replay =
       run_sim_cli(dir, "--replay out/profiles.exr --seed 5 --json --out-dir replayed");
   INFO(replay.err);
   REQUIRE(replay.code == 0);
@@ -131,16 +96,16 @@ TEST_CASE("vts sim: JSON summary and output files (reference source)", "[cli][si
 }
 
 TEST_CASE("vts sim: a replay at another speed is refused clearly", "[cli][sim]") {
-  SimDir dir;
+  TempDir dir;
   REQUIRE(run_sim_cli(dir, "--source reference --seed 5 --rate 40 --out-dir out").code == 0);
   // The master moves differently from the recorded run: the recorded sensor says so.
-  const SimResult r = run_sim_cli(dir, "--replay out/profiles.exr --seed 5 --speed 12 --out-dir other");
+  const Result r = run_sim_cli(dir, "--replay out/profiles.exr --seed 5 --speed 12 --out-dir other");
   CHECK(r.code == 1);
   CHECK(r.out.find("did not move as in the recorded run") != std::string::npos);
 }
 
 TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][sim]") {
-  SimDir dir;
+  TempDir dir;
   const std::pair<const char*, const char*> cases[] = {
       {"--speed abc", "--speed = 'abc'"},        {"--speed 0", "--speed = '0'"},
       {"--rate 20000", "--rate = '20000'"},      {"--offset 30", "--offset = '30'"},
@@ -149,7 +114,7 @@ TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][si
       {"--material glass", "--material = 'glass'"}, {"--replay missing.exr", "--replay = 'missing.exr'"},
   };
   for (const auto& [args, message] : cases) {
-    const SimResult r = run_sim_cli(dir, std::string(args) + " --out-dir out");
+    const Result r = run_sim_cli(dir, std::string(args) + " --out-dir out");
     INFO(args << ": " << r.err);
     CHECK(r.code == 2);
     CHECK(r.err.find(message) != std::string::npos);
@@ -159,8 +124,8 @@ TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][si
 }
 
 TEST_CASE("vts sim: the default raster run meets the targets", "[cli][sim][gl]") {
-  SimDir dir;
-  const SimResult r = run_sim_cli(dir, "--json --out-dir out");
+  TempDir dir;
+  const Result r = run_sim_cli(dir, "--json --out-dir out");
   INFO(r.err);
   REQUIRE(r.code == 0);
   const Json j = Json::parse(r.out);
