@@ -92,7 +92,19 @@ bool eliminate_outliers(const float* ys, const float* zs, int n, const Buffer<st
     r1 = run_end(cut, r0, n);
     const int len = r1 - r0 + 1;
     if (len <= max_cluster && len < n) {
-      // An island: a few points cut off from everything on both sides.
+      // An island: a few points cut off from everything on both sides, unless
+      // they are a piece of a steep surface broken by a dropout: at least two
+      // points on one line that the next point beyond the cut on either side
+      // continues.
+      bool piece = false;
+      if (len >= 2) {
+        const Vec2 a = raw(r0), b = raw(r1);
+        bool straight = true;
+        for (int k = r0 + 1; k < r1 && straight; ++k) straight = !beyond_chord(a, b, raw(k), op.support_tol_mm);
+        piece = straight && ((r1 + 1 < n && !beyond_chord(a, b, raw(r1 + 1), op.threshold_mm)) ||
+                             (r0 > 0 && !beyond_chord(a, b, raw(r0 - 1), op.threshold_mm)));
+      }
+      if (piece) continue;
       for (int k = r0; k <= r1; ++k) keep[k] = 0;
       any = true;
       continue;
@@ -275,7 +287,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   // Comparisons are false for NaN, so these also reject NaN and infinity.
   s.usable_.resize(span + 1);
   std::uint8_t* __restrict usable = s.usable_.data();
-  {
+  if (span > 0) {  // else lo may lie past the end (roi_first >= n): no pointer arithmetic there
     const float* __restrict py = profile.y_mm.data() + lo;
     const float* __restrict pz = profile.z_mm.data() + lo;
     for (int k = 0; k < span; ++k) {

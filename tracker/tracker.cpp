@@ -169,7 +169,12 @@ class Matcher {
   // inside that interval), the edge is where that face meets the plate.
   Edge edge(const Plate& pl, int end_index, int beyond_col, const Vec2* face_dir, std::span<const Vec2> faces,
             std::span<const Vec2> more_faces = {}) const {
-    const Vec2 near = pl.line.project(pt(end_index));
+    return edge_at(pl, pt(end_index), beyond_col, face_dir, faces, more_faces);
+  }
+  // The same from an end point given by its position.
+  Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
+               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}) const {
+    const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
     if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0) far = *x;
@@ -233,6 +238,64 @@ class Matcher {
   }
   std::optional<Pair> pair(int q) const { return pair_of(longs_[q], longs_[q + 1]); }
 
+  // The lines of plates a and b meet at x between two neighbouring rays seen
+  // on the plates: a sharp edge. Noise can put a point at the edge on the
+  // wrong plate, so the facing end points that also fit the other plate's
+  // line (within the surface tolerance) are not taken as its end.
+  bool meet_between_rays(const Plate& a, const Plate& b, const Vec2& x) const {
+    int lo = a.last, hi = b.first;
+    while (lo > a.first && b.line.distance(pt(lo)) <= tol_) --lo;
+    while (hi < b.last && a.line.distance(pt(hi)) <= tol_) ++hi;
+    return between_rays(x, s_.cols[lo], s_.cols[hi]);
+  }
+
+  // Two runs of points (their sums) lie on one line: the shorter run's
+  // centroid lies on the longer one's line, and the lines are close in angle
+  // or (a short run's angle is mostly noise) the fit through both runs is
+  // hardly worse than either alone. O(1).
+  bool same_line(const PointSums& s1, const PointSums& s2) const {
+    const auto p = s_.fit(s1), q = s_.fit(s2);
+    if (!p || !q) return false;
+    const bool on = s2.n >= s1.n ? q->line.distance(p->centroid) <= tol_ : p->line.distance(q->centroid) <= tol_;
+    if (!on) return false;
+    if (acute_angle_deg(p->line, q->line) <= 5.0) return true;
+    PointSums all = s1;
+    all += s2;
+    const auto u = s_.fit(all);
+    return u && u->rms_mm <= std::max({1.2 * p->rms_mm, 1.2 * q->rms_mm, 0.5 * tol_});
+  }
+
+  // Long segment q as a plate, extended outwards (dir -1: towards the start of
+  // the profile, +1: towards its end) over the long segments that continue its
+  // line (noise can cut a plate in pieces), fitted to their points.
+  Plate extended(int q, int dir) const {
+    const Segment& sq = seg(q);
+    PointSums sums = sq.sums;
+    int first = sq.first, last = sq.last;
+    for (int r = q + dir; r >= 0 && r < n_long(); r += dir) {
+      const Segment& nx = seg(r);
+      if (!same_line(sums, nx.sums)) break;
+      sums += nx.sums;
+      first = std::min(first, nx.first), last = std::max(last, nx.last);
+    }
+    if (first == sq.first && last == sq.last) return plate_of(sq);
+    const auto f = s_.fit(sums);
+    if (!f) return plate_of(sq);
+    return Plate{first, last, f->line, f->centroid};
+  }
+
+  // A long segment between two plates is their edge face only if it does not
+  // continue either plate (noise can cut a plate in two: then the pair that
+  // skips a piece of it would read a wrong edge).
+  bool continues_either(const Segment& mid, int q1, int q2) const {
+    // ...and its fitted line stays on the plate's line over its whole length.
+    auto along = [&](const Segment& pl) {
+      return same_line(mid.sums, pl.sums) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
+             pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
+    };
+    return along(seg(q1)) || along(seg(q2));
+  }
+
   // Some point of [from, to] lies off both lines (more than the tolerance).
   bool off_both(int from, int to, const Line& a, const Line& b) const {
     for (int i = from; i <= to; ++i)
@@ -242,8 +305,11 @@ class Matcher {
 
   // Point `end` of plate `a` lies beyond line `l`: on the other side of it from
   // a's centroid, by more than the surface tolerance.
-  bool beyond(const Plate& a, int end, const Line& l) const {
-    const double c = l.signed_distance(a.centroid), e = l.signed_distance(pt(end));
+  bool beyond(const Plate& a, int end, const Line& l) const { return beyond_line(a.centroid, pt(end), l); }
+  // Point p lies on the other side of line l from `centroid`, by more than the
+  // surface tolerance.
+  bool beyond_line(const Vec2& centroid, const Vec2& p, const Line& l) const {
+    const double c = l.signed_distance(centroid), e = l.signed_distance(p);
     return std::abs(e) > tol_ && (c > 0.0) != (e > 0.0);
   }
 
@@ -255,14 +321,38 @@ class Matcher {
       const Plate& a = pr->a;
       const Plate& b = pr->b;
       // A gap shows as the flange seen beyond the web's line, under its edge.
-      const bool a_past = beyond(a, a.last, b.line);
-      const bool b_past = beyond(b, b.first, a.line);
+      // The points seen there can be few and off the line of their neighbours
+      // (removed as an outlier cluster): those on the flange's line count too.
+      int a_end_col = s_.cols[a.last], b_end_col = s_.cols[b.first];
+      Vec2 a_end_pt = pt(a.last), b_end_pt = pt(b.first);
+      bool a_past = beyond(a, a.last, b.line);
+      bool b_past = beyond(b, b.first, a.line);
+      {
+        const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
+        const std::size_t off =
+            removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
+        bool b_found = false;
+        for (std::size_t k = 0; k < removed.size(); ++k) {
+          const Vec2& o = removed[k];
+          const int col = s_.outlier_cols[off + k];
+          if (a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
+            a_past = true;
+            a_end_col = col, a_end_pt = o;  // the last one: columns ascend
+          }
+          if (!b_found && b.line.distance(o) <= tol_ && beyond_line(b.centroid, o, a.line)) {
+            b_past = b_found = true;
+            b_end_col = col, b_end_pt = o;  // the first one
+          }
+        }
+      }
       bool web_is_b = true;
       if (fp.web == WebSide::First) web_is_b = false;
       else if (fp.web == WebSide::Auto) web_is_b = a_past || !b_past;
       const Plate& flange = web_is_b ? a : b;
       const Plate& web = web_is_b ? b : a;
-      const int f_end = web_is_b ? a.last : b.first, f_out = web_is_b ? a.first : b.last;
+      const int f_out = web_is_b ? a.first : b.last;
+      const int f_end_col = web_is_b ? a_end_col : b_end_col;
+      const Vec2 f_end_pt = web_is_b ? a_end_pt : b_end_pt;
       const int w_end = web_is_b ? b.first : a.last, w_out = web_is_b ? b.last : a.first;
       const bool gap_seen = web_is_b ? a_past : b_past;
 
@@ -277,13 +367,13 @@ class Matcher {
         // flange point, which passed under it.
         const Vec2 near = web.line.project(pt(w_end));
         Vec2 toe = near;
-        if (const auto far = ray_hit(s_.cols[f_end], web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
+        if (const auto far = ray_hit(f_end_col, web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
           toe = 0.5 * (near + *far);
           c.edge_unc = 0.5 * (*far - near).norm();
         }
         c.gap = flange.line.distance(toe);
         c.gap_paper = flange.line.distance(near);
-        c.bp[2] = flange.line.project(pt(f_end));
+        c.bp[2] = flange.line.project(f_end_pt);
         c.bp[3] = toe;
       } else {
         c.gap = 0.0;
@@ -299,35 +389,39 @@ class Matcher {
 
   void corner() {
     const CornerParams& cp = p_.corner;
+    // The faces are neighbouring long segments, or have one between them
+    // that continues neither (the notch of a gap, seen close up).
     for (int q = 0; q + 1 < n_long(); ++q) {
-      auto pr = pair(q);
-      if (!pr || pr->valley) continue;
-      pr = trimmed(*pr);
-      if (!pr || pr->valley) continue;
-      const Plate& a = pr->a;
-      const Plate& b = pr->b;
-      const int from = a.last + 1, to = b.first - 1;
-      Candidate c;
-      Edge el{pr->x, 0.0}, er{pr->x, 0.0};
-      // Faces that meet between two neighbouring rays (or in a run of
-      // invalid columns) are one sharp edge: missing points are no gap.
-      if (pr->trimmed || off_both(from, to, a.line, b.line) ||
-          !between_rays(pr->x, s_.cols[a.last], s_.cols[b.first])) {
-        el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to));
-        er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to));
+      for (int q2 = q + 1; q2 <= std::min(q + 2, n_long() - 1); ++q2) {
+        if (q2 == q + 2 && continues_either(seg(q + 1), q, q2)) continue;
+        auto pr = pair_of(longs_[q], longs_[q2]);
+        if (!pr || pr->valley) continue;
+        pr = trimmed(*pr);
+        if (!pr || pr->valley) continue;
+        const Plate& a = pr->a;
+        const Plate& b = pr->b;
+        const int from = a.last + 1, to = b.first - 1;
+        Candidate c;
+        Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+        // Faces that meet between two neighbouring rays (or in a run of
+        // invalid columns) are one sharp edge: missing points are no gap.
+        if (pr->trimmed || off_both(from, to, a.line, b.line) || !meet_between_rays(a, b, pr->x)) {
+          el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to));
+          er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to));
+        }
+        c.angle = angle_between_deg(pr->ua, pr->ub);
+        c.gap = (er.point - el.point).norm();
+        c.edge_unc = el.half_width_mm + er.half_width_mm;
+        c.track = 0.5 * (el.point + er.point);
+        c.bp[0] = outer(a, pt(a.first));
+        c.bp[1] = el.point;
+        c.bp[2] = pr->x;
+        c.bp[3] = er.point;
+        c.bp[4] = outer(b, pt(b.last));
+        c.score = std::min(a.count(), b.count());
+        c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
+        offer(c);
       }
-      c.angle = angle_between_deg(pr->ua, pr->ub);
-      c.gap = (er.point - el.point).norm();
-      c.edge_unc = el.half_width_mm + er.half_width_mm;
-      c.track = 0.5 * (el.point + er.point);
-      c.bp[0] = outer(a, pt(a.first));
-      c.bp[1] = el.point;
-      c.bp[2] = pr->x;
-      c.bp[3] = er.point;
-      c.bp[4] = outer(b, pt(b.last));
-      c.score = std::min(a.count(), b.count());
-      c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
-      offer(c);
     }
   }
 
@@ -338,6 +432,7 @@ class Matcher {
       for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
         const Plate a = plate_of(seg(q1)), b = plate_of(seg(q2));
         if (!near_enough(a, b) || acute_angle_deg(a.line, b.line) > lp.max_plate_angle_deg) continue;
+        if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
         bool upper_is_b;
         if (a.line.signed_distance(pt(b.first)) > tol_) upper_is_b = true;
         else if (b.line.signed_distance(pt(a.last)) > tol_) upper_is_b = false;
@@ -388,8 +483,18 @@ class Matcher {
         } else {
           // Edge face hidden or too short to fit: the top edge lies between
           // the upper plate's end and the next ray; the face is square to it.
-          const int beyond_col = upper_is_b ? s_.cols[u_end] - 1 : s_.cols[u_end] + 1;
-          const Edge e = edge(upper, u_end, beyond_col, &upper.line.n, span_of(from, to));
+          // Points between the plates on the upper plate's line (a noisy
+          // piece too short to be a segment of its own) still belong to it.
+          int u_edge = u_end;
+          auto on_upper = [&](int i) {
+            return upper.line.distance(pt(i)) <= tol_ && lower.line.distance(pt(i)) > tol_;
+          };
+          if (upper_is_b)
+            while (u_edge - 1 >= from && on_upper(u_edge - 1)) --u_edge;
+          else
+            while (u_edge + 1 <= to && on_upper(u_edge + 1)) ++u_edge;
+          const int beyond_col = upper_is_b ? s_.cols[u_edge] - 1 : s_.cols[u_edge] + 1;
+          const Edge e = edge(upper, u_edge, beyond_col, &upper.line.n, span_of(from, to));
           top = e.point;
           c.edge_unc = e.half_width_mm;
           foot = lower.line.project(top);
@@ -448,8 +553,9 @@ class Matcher {
     // edge face) with something between them...
     for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
       for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
-        const Plate a = plate_of(seg(q1)), b = plate_of(seg(q2));
+        const Plate a = extended(q1, -1), b = extended(q2, +1);
         if (!near_enough(a, b)) continue;
+        if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
         // Something between them off both lines (walls in the gap), missing
         // columns, or a jump; a few noisy points on the plates' line are not a gap.
         bool strong = s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) > 0;
@@ -482,7 +588,16 @@ class Matcher {
         const auto local = s_.fit(k - s_min + 1, k);
         if (!local) continue;
         bool hole = s_.cuts[k];
-        if (!hole && s_.cols[k + 1] > s_.cols[k] + 1)
+        // A jump only over points removed as outliers, with the next point
+        // still on the plate's line, is a noise cluster unless some of those
+        // points lie well behind the plate (rays that went into the gap).
+        const bool on_line = sg.line.distance(pt(k)) <= tol_ && sg.line.distance(pt(k + 1)) <= tol_;
+        if (s_.cols[k + 1] > s_.cols[k] + 1 && on_line &&
+            s_.invalid_columns_between(s_.cols[k], s_.cols[k + 1]) == 0) {
+          hole = false;
+          for (const Vec2& o : outliers_between(s_.cols[k], s_.cols[k + 1]))
+            hole = hole || sg.line.signed_distance(o) < -2.0 * tol_;
+        } else if (!hole && s_.cols[k + 1] > s_.cols[k] + 1)
           for (const Vec2& o : outliers_between(s_.cols[k], s_.cols[k + 1]))
             hole = hole || local->line.signed_distance(o) < -tol_;
         int e = k + 1;  // first point of the second plate
@@ -505,7 +620,11 @@ class Matcher {
         }
         if (!hole) continue;
         const auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
-        if (a && b) butt_pair(*a, *b, k + 1, e - 1, s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1);
+        // Missing columns with both sides on one line are strong evidence only
+        // on clean profiles: on noisy ones a dropout looks the same.
+        const bool missing = s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1;
+        const bool dropout_like = e == k + 1 && on_line && sg.rms_mm > 0.25 * tol_;
+        if (a && b) butt_pair(*a, *b, k + 1, e - 1, missing && !dropout_like);
       }
     }
   }
@@ -584,8 +703,24 @@ class Matcher {
       if (pr->trimmed || off_both(from, to, bl.line, br.line) ||
           s_.invalid_columns_between(s_.cols[bl.last], s_.cols[br.first]) > 0 ||
           !between_rays(pr->x, s_.cols[bl.last], s_.cols[br.first])) {
-        el = edge(bl, bl.last, s_.cols[bl.last] + 1, tl ? &tl->line.n : nullptr, span_of(from, to));
-        er = edge(br, br.first, s_.cols[br.first] - 1, tr ? &tr->line.n : nullptr, span_of(from, to));
+        // A bevel's last points next to the root opening can be cut off by
+        // dropouts and removed as an island: those on its line still mark
+        // how far it reaches.
+        Vec2 l_end = pt(bl.last), r_end = pt(br.first);
+        int l_col = s_.cols[bl.last], r_col = s_.cols[br.first];
+        bool r_found = false;
+        const auto removed = outliers_between(s_.cols[bl.last], s_.cols[br.first]);
+        const std::size_t off =
+            removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
+        for (std::size_t k = 0; k < removed.size(); ++k) {
+          const Vec2& o = removed[k];
+          const int col = s_.outlier_cols[off + k];
+          if (bl.line.distance(o) <= tol_ && (o - pr->x).dot(pr->ua) > 0.0) l_end = o, l_col = col;  // the last
+          if (!r_found && br.line.distance(o) <= tol_ && (o - pr->x).dot(pr->ub) > 0.0)
+            r_end = o, r_col = col, r_found = true;  // the first
+        }
+        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to));
+        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to));
       }
       // The plates' surface direction: from the tops, else square to the bisector.
       Vec2 dp;
