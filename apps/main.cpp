@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/scan.h"
+#include "apps/vts_mesh.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
 #include "apps/vts_sim.h"
@@ -51,6 +52,8 @@ int run(int argc, char** argv) {
   CLI::App* static_cmd = vts::apps::add_static_command(app, static_exit);  // runs from its callback
   int sim_exit = vts::cli::kExitOk;
   CLI::App* sim = vts::apps::add_sim_command(app, sim_exit);  // runs from its callback
+  int mesh_exit = vts::cli::kExitOk;
+  CLI::App* mesh = vts::apps::add_mesh_command(app, mesh_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -74,6 +77,7 @@ int run(int argc, char** argv) {
   if (static_cmd->parsed()) return static_exit;
   if (sensors->parsed()) return sensors_exit;
   if (sim->parsed()) return sim_exit;
+  if (mesh->parsed()) return mesh_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

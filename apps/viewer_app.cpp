@@ -413,9 +413,9 @@ void App::build_scene(SceneView& v, int width, int height) {
     for (double y = y0; y <= y1 + 1e-9; y += step) line(Vec3(x0, y, z), Vec3(x1, y, z), kGrid);
   }
 
-  // The analytic seams.
+  // The analytic seams (a mesh workpiece has none).
   for (const auto& w : cell_.workpieces)
-    line(w.seam_origin(), w.seam_origin() + w.params.length_mm * w.seam_direction(), kSeam);
+    if (!w.is_mesh()) line(w.seam_origin(), w.seam_origin() + w.params.length_mm * w.seam_direction(), kSeam);
 
   // Tool frame axes at the TCP.
   const Vec3 tcp = world_from_torch_.translation();

@@ -504,8 +504,20 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
   return scan;
 }
 
+// One line per mesh workpiece on stderr: what its file held (docs/SCENE_FORMAT.md).
+static void report_mesh_workpieces(const Cell& cell) {
+  for (std::size_t i = 0; i < cell.workpieces.size(); ++i) {
+    const MeshLoadStats& s = cell.workpieces[i].mesh_stats;
+    if (!cell.workpieces[i].is_mesh()) continue;
+    std::cerr << "vts scan: workpieces[" << i << "]: mesh " << s.file << ": " << s.triangles_kept
+              << " triangles, " << s.skipped_degenerate << " degenerate skipped, " << s.open_edges
+              << " open edges\n";
+  }
+}
+
 int run_scan(const ScanOptions& opts) {
   const ScanPlan plan = plan_scan(opts);  // throws UsageError; nothing created yet
+  report_mesh_workpieces(plan.cell);
   try {
     return execute(plan);
   } catch (const Interrupted& e) {

@@ -312,14 +312,18 @@ tk::Range option_range(const std::string& option, const std::string& text, const
   return {*lo, *hi};
 }
 
-// The joint of a recording's scene, if the file says.
+// The joint of a recording's scene, if the file says. A mesh workpiece says
+// only when its scene named the joint (`joint:`), and gives no thickness; its
+// mesh file is not read.
 std::optional<vts::JointType> scene_joint(const ProfileRecording& rec, double* thickness_mm) {
   if (rec.info.scene_text.empty()) return std::nullopt;
   try {
-    const Cell cell = parse_scene(rec.info.scene_text, rec.info.scene_name);
+    const Cell cell = parse_scene(rec.info.scene_text, rec.info.scene_name, MeshFiles::Skip);
     if (cell.workpieces.empty()) return std::nullopt;
-    *thickness_mm = cell.workpieces.front().params.thickness_mm;
-    return cell.workpieces.front().type;
+    const vts::Workpiece& w = cell.workpieces.front();
+    if (!w.has_joint()) return std::nullopt;
+    *thickness_mm = w.is_mesh() ? 0.0 : w.params.thickness_mm;
+    return w.type;
   } catch (const std::exception&) {
     return std::nullopt;
   }

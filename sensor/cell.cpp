@@ -9,6 +9,7 @@ namespace {
 struct Builtin {
   std::string_view name;
   std::string_view description;
+  bool large = false;  // benchmark-sized: not in CellSet::Small
 };
 constexpr Builtin kBuiltins[] = {
     {"fillet", "90-degree T fillet, sensor on the bisector at 100 mm"},
@@ -23,7 +24,13 @@ constexpr Builtin kBuiltins[] = {
     {"static-D", "paper Table 2 D: 90-degree fillet, sensor at 45 degrees, 55 mm, gap 2 mm"},
     {"static-E", "paper Table 2 E: 90-degree fillet, sensor at 45 degrees, 98 mm, gap 2 mm"},
     {"static-F", "paper Table 2 F: 90-degree fillet, sensor at 45 degrees, 143 mm, gap 2 mm"},
+    {"fillet-1m",
+     "the fillet 600 mm long, every face a 0.78 mm grid: 1010888 triangles (benchmarks)", true},
 };
+
+// fillet-1m: the built-in fillet, longer and densely meshed (docs/CELLS.md).
+constexpr double kDenseLengthMm = 600.0;
+constexpr double kDenseCellMm = 0.78;
 
 constexpr double kDefaultStandoffMm = 100.0;
 
@@ -76,9 +83,10 @@ ScanPath default_path(const Workpiece& w, double standoff_mm, double start_mm) {
   return path;
 }
 
-std::vector<std::string> builtin_cell_names() {
+std::vector<std::string> builtin_cell_names(CellSet set) {
   std::vector<std::string> names;
-  for (const auto& b : kBuiltins) names.emplace_back(b.name);
+  for (const auto& b : kBuiltins)
+    if (set == CellSet::All || !b.large) names.emplace_back(b.name);
   return names;
 }
 
@@ -100,6 +108,12 @@ std::optional<Cell> builtin_cell(std::string_view name) {
       name == "vgroove") {
     const JointType type = *joint_type_from_string(name);
     return single_workpiece_cell(name, type, default_params(type), kDefaultStandoffMm);
+  }
+  if (name == "fillet-1m") {
+    JointParams p = default_params(JointType::Fillet);
+    p.length_mm = kDenseLengthMm;
+    p.cell_mm = kDenseCellMm;
+    return single_workpiece_cell(name, JointType::Fillet, p, kDefaultStandoffMm);
   }
   return std::nullopt;
 }

@@ -36,12 +36,18 @@ struct Cell {
 // start (x = start_mm along the seam) from the joint's natural viewing
 // direction (fillet: the open angle's bisector; corner, lap, butt, v-groove,
 // plate: straight down the joint's z) at standoff_mm, travelling along the seam.
+// A mesh workpiece has no seam: the path then looks at its joint frame's x
+// axis, which means nothing (scene files require path.start for it).
 ScanPath default_path(const Workpiece& workpiece, double standoff_mm, double start_mm = 20.0);
 // Unit vector (joint frame) from the root towards the sensor for default_path.
 Vec3 default_view_direction(const Workpiece& workpiece);
 
-// fillet, corner, lap, butt, vgroove, plate, static-A .. static-F
-std::vector<std::string> builtin_cell_names();
+// Which built-in cells builtin_cell_names() lists. Small leaves out the
+// benchmark-sized ones (fillet-1m), for loops that build or scan every cell.
+enum class CellSet { All, Small };
+
+// fillet, corner, lap, butt, vgroove, plate, static-A .. static-F, fillet-1m
+std::vector<std::string> builtin_cell_names(CellSet set = CellSet::All);
 inline constexpr std::string_view kDefaultCell = "static-B";
 std::optional<Cell> builtin_cell(std::string_view name);
 // One line saying what the built-in cell is; empty for an unknown name.

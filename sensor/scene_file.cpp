@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "sensor/mesh_file.h"
 #include "sensor/presets.h"
 
 namespace vts {
@@ -137,7 +138,8 @@ struct Field {
 
 class Parser {
  public:
-  explicit Parser(std::string file) : file_(std::move(file)) {}
+  Parser(std::string file, MeshFiles meshes)
+      : file_(std::move(file)), dir_(std::filesystem::path(file_).parent_path()), meshes_(meshes) {}
 
   [[noreturn]] void fail(int line, const std::string& field, const std::string& msg) const {
     throw SceneError(file_, line, field, msg);
@@ -194,26 +196,32 @@ class Parser {
     return f.node.Scalar();
   }
 
-  double number(const Field& f) const {
-    const std::string s = scalar_text(f, "a number");
+  // The scalar as a number (YAML's special floats too); nullopt if it is not
+  // one (quoted scalars are strings).
+  std::optional<double> try_number(const Field& f) const {
+    if (!f.node.IsScalar() || f.node.Tag() == "!") return std::nullopt;
+    const std::string s = f.node.Scalar();
     // YAML's special floats, which strtod does not know.
     static const std::pair<std::string_view, double> specials[] = {
         {".nan", NAN}, {".NaN", NAN}, {".NAN", NAN},
         {".inf", INFINITY}, {".Inf", INFINITY}, {".INF", INFINITY},
         {"+.inf", INFINITY}, {"+.Inf", INFINITY}, {"+.INF", INFINITY},
         {"-.inf", -INFINITY}, {"-.Inf", -INFINITY}, {"-.INF", -INFINITY}};
-    double v = 0.0;
-    bool parsed = false;
     for (const auto& [text, value] : specials)
-      if (s == text) v = value, parsed = true;
-    if (!parsed && !s.empty() && !std::isspace(static_cast<unsigned char>(s.front()))) {
-      char* end = nullptr;
-      v = std::strtod(s.c_str(), &end);
-      parsed = end == s.c_str() + s.size();
-    }
-    if (!parsed) fail(f, "expected a number, got " + describe(f.node));
-    if (!std::isfinite(v)) fail(f, "must be a finite number, got '" + s + "'");
+      if (s == text) return value;
+    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end != s.c_str() + s.size()) return std::nullopt;
     return v;
+  }
+
+  double number(const Field& f) const {
+    const std::string s = scalar_text(f, "a number");
+    const auto v = try_number(f);
+    if (!v) fail(f, "expected a number, got " + describe(f.node));
+    if (!std::isfinite(*v)) fail(f, "must be a finite number, got '" + s + "'");
+    return *v;
   }
 
   long long integer(const Field& f) const {
@@ -312,38 +320,107 @@ class Parser {
     return d;
   }
 
+  JointType joint_type(const Field& f) const {
+    const std::string name = string(f);
+    const auto type = joint_type_from_string(name);
+    if (!type)
+      fail(f, "unknown joint '" + name + "' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
+    return *type;
+  }
+
+  // `unit`: a name, or a number of mm per file unit.
+  double mesh_unit(const Field& f) const {
+    static const std::string kExpected = "mm, cm, m, in, or a number: mm per file unit";
+    if (!f.node.IsScalar()) fail(f, "expected " + kExpected + ", got " + describe(f.node));
+    const std::string s = f.node.Scalar();
+    if (const auto mm = mesh_unit_mm(s)) return *mm;
+    const auto v = try_number(f);
+    if (!v) fail(f, "unknown unit '" + s + "' (expected " + kExpected + ")");
+    if (!std::isfinite(*v)) fail(f, "must be a finite number, got '" + s + "'");
+    if (*v <= 0.0) fail(f, "unit = " + s + ": must be > 0 (mm per file unit)");
+    return *v;
+  }
+
+  // A mesh workpiece: mesh, unit, joint, pose.
+  Workpiece mesh_workpiece_item(const Field& f) const {
+    const Map m(*this, f, {"mesh", "unit", "joint", "pose"});
+    const Field mf = m.require("mesh");
+    if (!mf.node.IsScalar()) fail(mf, "expected a mesh file name, got " + describe(mf.node));
+    const std::string given = mf.node.Scalar();
+    if (given.empty()) fail(mf, "expected a mesh file name, got ''");
+    double unit_mm = 1.0;
+    if (auto x = m.get("unit")) unit_mm = mesh_unit(*x);
+    std::optional<JointType> joint;
+    if (auto x = m.get("joint")) joint = joint_type(*x);
+    Pose world_from_joint = Pose::Identity();
+    if (auto x = m.get("pose")) world_from_joint = pose(*x);
+
+    // Relative to the scene file's directory; messages name it that way.
+    const std::filesystem::path file =
+        std::filesystem::path(given).is_relative() ? dir_ / given : std::filesystem::path(given);
+    std::shared_ptr<const Mesh> mesh;
+    MeshLoadStats stats;
+    if (meshes_ == MeshFiles::Load) {
+      try {
+        mesh = std::make_shared<const Mesh>(load_mesh_file(file, unit_mm, &stats));
+      } catch (const MeshFileError& e) {
+        fail(mf, e.what());
+      }
+    }
+    stats.file = file.string();
+    Workpiece w = mesh_workpiece(mesh, world_from_joint, joint, &stats);
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(file, ec);
+    w.mesh_file = (ec ? file : absolute).lexically_normal().string();
+    w.mesh_unit_mm = unit_mm;
+    return w;
+  }
+
+  static bool has_key(const YAML::Node& map, std::string_view name) {
+    if (!map.IsMap()) return false;
+    for (const auto& kv : map)
+      if (kv.first.IsScalar() && kv.first.Scalar() == name) return true;
+    return false;
+  }
+
   Workpiece workpiece(const Field& f) const {
-    static const char* const kParamNames[] = {"length_mm",   "width_mm",    "thickness_mm",
-                                              "height_mm",   "gap_mm",      "angle_deg",
-                                              "mismatch_mm", "root_face_mm", "segment_mm"};
+    if (has_key(f.node, "mesh")) return mesh_workpiece_item(f);
+    static const char* const kParamNames[] = {"length_mm",   "width_mm",     "thickness_mm",
+                                              "height_mm",   "gap_mm",       "angle_deg",
+                                              "mismatch_mm", "root_face_mm", "segment_mm",
+                                              "cell_mm"};
     std::vector<std::string> allowed = {"joint", "pose"};
     for (const char* n : kParamNames) allowed.emplace_back(n);
+    allowed.emplace_back("mesh");
     const Map m(*this, f, allowed);
 
-    const Field jf = m.require("joint");
-    const std::string jname = string(jf);
-    const auto type = joint_type_from_string(jname);
-    if (!type)
-      fail(jf, "unknown joint '" + jname +
-                   "' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
-
-    JointParams p = default_params(*type);
-    double* const slots[] = {&p.length_mm,   &p.width_mm,    &p.thickness_mm,
-                             &p.height_mm,   &p.gap_mm,      &p.angle_deg,
-                             &p.mismatch_mm, &p.root_face_mm, &p.segment_mm};
+    const JointType type = joint_type(m.require("joint"));
+    JointParams p = default_params(type);
+    double* const slots[] = {&p.length_mm,   &p.width_mm,     &p.thickness_mm,
+                             &p.height_mm,   &p.gap_mm,       &p.angle_deg,
+                             &p.mismatch_mm, &p.root_face_mm, &p.segment_mm,
+                             &p.cell_mm};
     for (std::size_t i = 0; i < std::size(kParamNames); ++i)
       if (auto x = m.get(kParamNames[i])) *slots[i] = number(*x);
-    if (const std::string err = validate(*type, p); !err.empty()) fail_validation(m, err);
+    if (const std::string err = validate(type, p); !err.empty()) fail_validation(m, err);
 
     Pose world_from_joint = Pose::Identity();
     if (auto x = m.get("pose")) world_from_joint = pose(*x);
-    return build_workpiece(*type, p, world_from_joint);
+    return build_workpiece(type, p, world_from_joint);
   }
 
-  ScanPath path(const std::optional<Field>& f, const Workpiece& first, const ScannerDesc& scanner) const {
+  // first_mesh_line: the line of workpieces[0].mesh, 0 if it is a joint.
+  ScanPath path(const std::optional<Field>& f, const Workpiece& first, const ScannerDesc& scanner,
+                int first_mesh_line) const {
     constexpr double kDefaultStandoffMm = 100.0;
-    if (!f) return default_path(first, kDefaultStandoffMm);
+    static const char* const kNeedsStart =
+        "missing (required when workpieces[0] is a mesh: a mesh has no seam to derive the default path from)";
+    if (!f) {
+      if (first.is_mesh()) fail(first_mesh_line, "path.start", kNeedsStart);
+      return default_path(first, kDefaultStandoffMm);
+    }
     const Map m(*this, *f, {"start", "standoff_mm", "direction", "step_mm", "speed_mm_s", "profiles"});
+    if (first.is_mesh() && !m.get("start")) fail(m.self().line(), "path.start", kNeedsStart);
 
     double standoff_mm = kDefaultStandoffMm;
     if (auto x = m.get("standoff_mm")) {
@@ -431,12 +508,18 @@ class Parser {
       cell.workpieces.push_back(
           workpiece(Field{n, "workpieces[" + std::to_string(i) + "]", 0, wf.line()}));
     }
-    cell.path = path(m.get("path"), cell.workpieces.front(), cell.scanner);
+    int first_mesh_line = 0;
+    if (cell.workpieces.front().is_mesh())
+      for (const auto& kv : wf.node[0])
+        if (kv.first.IsScalar() && kv.first.Scalar() == "mesh") first_mesh_line = kv.first.Mark().line + 1;
+    cell.path = path(m.get("path"), cell.workpieces.front(), cell.scanner, first_mesh_line);
     return cell;
   }
 
  private:
   std::string file_;
+  std::filesystem::path dir_;  // the scene file's directory: relative mesh paths start here
+  MeshFiles meshes_;
 };
 
 void write_vec3(std::ostringstream& out, const Vec3& v) {
@@ -460,8 +543,8 @@ SceneError::SceneError(const std::string& file_, int line_, const std::string& f
       field(field_),
       line(line_) {}
 
-Cell parse_scene(const std::string& yaml_text, const std::string& file_name) {
-  const Parser parser(file_name);
+Cell parse_scene(const std::string& yaml_text, const std::string& file_name, MeshFiles meshes) {
+  const Parser parser(file_name, meshes);
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -480,7 +563,7 @@ Cell parse_scene(const std::string& yaml_text, const std::string& file_name) {
   }
 }
 
-Cell load_scene(const std::filesystem::path& path) {
+Cell load_scene(const std::filesystem::path& path, MeshFiles meshes) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
@@ -492,7 +575,7 @@ Cell load_scene(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw SceneError(file, 0, "", "read error");
-  return parse_scene(text.str(), file);
+  return parse_scene(text.str(), file, meshes);
 }
 
 std::string scene_to_yaml(const Cell& cell) {
@@ -517,6 +600,15 @@ std::string scene_to_yaml(const Cell& cell) {
 
   out << "workpieces:\n";
   for (const Workpiece& w : cell.workpieces) {
+    if (w.is_mesh()) {
+      out << "  - mesh: " << yaml_quoted(w.mesh_file) << "\n";
+      const std::string unit = mesh_unit_name(w.mesh_unit_mm);
+      out << "    unit: " << (unit.empty() ? num(w.mesh_unit_mm) : unit) << "\n";
+      if (w.mesh_joint) out << "    joint: " << to_string(w.type) << "\n";
+      out << "    pose:\n";
+      write_pose(out, "      ", w.world_from_joint);
+      continue;
+    }
     const JointParams& p = w.params;
     out << "  - joint: " << to_string(w.type) << "\n";
     out << "    length_mm: " << num(p.length_mm) << "\n";
@@ -528,6 +620,7 @@ std::string scene_to_yaml(const Cell& cell) {
     out << "    mismatch_mm: " << num(p.mismatch_mm) << "\n";
     out << "    root_face_mm: " << num(p.root_face_mm) << "\n";
     out << "    segment_mm: " << num(p.segment_mm) << "\n";
+    out << "    cell_mm: " << num(p.cell_mm) << "\n";
     out << "    pose:\n";
     write_pose(out, "      ", w.world_from_joint);
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <string>
 
 namespace vts {
 namespace {
@@ -41,6 +42,113 @@ Plate make_plate(std::vector<Vec2> section, double length_mm) {
 
 Plate rect(double y0, double y1, double z0, double z1, double length_mm) {
   return make_plate({{y0, z0}, {y1, z0}, {y1, z1}, {y0, z1}}, length_mm);
+}
+
+// The subdivision of a plate for cell_mm > 0 (see plate_mesh): cuts along
+// x, columns across each section edge, and the outline (ring) those give.
+struct DenseGrid {
+  double nx = 1.0;               // cuts along x
+  std::vector<double> across;    // columns across each section edge
+  double ring = 0.0;             // points on the subdivided outline: sum of across
+};
+
+DenseGrid dense_grid(const Plate& plate, double segment_mm, double cell_mm) {
+  const auto& poly = plate.section_yz;
+  const auto cuts = [](double n) { return std::max(1.0, std::ceil(n - 1e-9)); };
+  DenseGrid g;
+  const double len = plate.x1_mm - plate.x0_mm;
+  g.nx = std::max(cuts(len / segment_mm), cuts(len / cell_mm));
+  for (std::size_t e = 0; e < poly.size(); ++e)
+    g.across.push_back(cuts((poly[(e + 1) % poly.size()] - poly[e]).norm() / cell_mm));
+  if (poly.size() == 4) {  // a bilinear cap needs equal counts on opposite sides
+    g.across[0] = g.across[2] = std::max(g.across[0], g.across[2]);
+    g.across[1] = g.across[3] = std::max(g.across[1], g.across[3]);
+  }
+  for (const double n : g.across) g.ring += n;
+  return g;
+}
+
+Mesh dense_plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint, double cell_mm) {
+  const auto& poly = plate.section_yz;
+  const int k = static_cast<int>(poly.size());
+  const DenseGrid g = dense_grid(plate, segment_mm, cell_mm);
+  const int nx = static_cast<int>(g.nx);
+  const int ring_size = static_cast<int>(g.ring);
+  const double len = plate.x1_mm - plate.x0_mm;
+
+  // The outline, each edge cut into its columns (edge e's first point is its corner).
+  std::vector<Vec2> ring;
+  ring.reserve(ring_size);
+  for (int e = 0; e < k; ++e) {
+    const Vec2& a = poly[e];
+    const Vec2& b = poly[(e + 1) % k];
+    const int n = static_cast<int>(g.across[e]);
+    for (int j = 0; j < n; ++j) ring.push_back(a + (b - a) * (static_cast<double>(j) / n));
+  }
+
+  Mesh m;
+  const bool bilinear = k == 4;
+  const int a = bilinear ? static_cast<int>(g.across[0]) : 0;
+  const int b = bilinear ? static_cast<int>(g.across[1]) : 0;
+  const std::size_t cap_vertices = bilinear ? static_cast<std::size_t>(a - 1) * (b - 1) : 1;
+  m.vertices.reserve(static_cast<std::size_t>(nx + 1) * ring_size + 2 * cap_vertices);
+  m.triangles.reserve(static_cast<std::size_t>(plate_triangle_count(plate, segment_mm, cell_mm)));
+  auto vertex = [&](double x, const Vec2& yz) {
+    m.vertices.push_back((world_from_joint * Vec3(x, yz.x(), yz.y())).cast<float>());
+    return static_cast<std::uint32_t>(m.vertices.size() - 1);
+  };
+  auto slice_x = [&](int s) { return s == nx ? plate.x1_mm : plate.x0_mm + len * s / nx; };
+
+  // Side faces: the outline at every cut; quads between neighbouring cuts.
+  for (int s = 0; s <= nx; ++s) {
+    const double x = slice_x(s);
+    for (const Vec2& p : ring) vertex(x, p);
+  }
+  const auto at = [&](int s, int r) { return static_cast<std::uint32_t>(s * ring_size + r % ring_size); };
+  for (int s = 0; s < nx; ++s)
+    for (int r = 0; r < ring_size; ++r) {
+      // a = (s, r), b = (s + 1, r), c = (s + 1, r + 1), d = (s, r + 1): outward (a, c, b), (a, d, c)
+      m.triangles.push_back({at(s, r), at(s + 1, r + 1), at(s + 1, r)});
+      m.triangles.push_back({at(s, r), at(s, r + 1), at(s + 1, r + 1)});
+    }
+
+  // End caps; counter-clockwise in y-z faces +x (the cap at x1), reversed at x0.
+  for (const int s : {0, nx}) {
+    const bool flip = s == 0;
+    auto tri = [&](std::uint32_t p, std::uint32_t q, std::uint32_t r) {
+      if (flip) m.triangles.push_back({p, r, q});
+      else m.triangles.push_back({p, q, r});
+    };
+    const double x = slice_x(s);
+    if (!bilinear) {
+      Vec2 centre = Vec2::Zero();
+      for (const Vec2& p : poly) centre += p / k;
+      const std::uint32_t c = vertex(x, centre);
+      for (int r = 0; r < ring_size; ++r) tri(c, at(s, r), at(s, r + 1));
+      continue;
+    }
+    // Bilinear grid (i along edge 0, j along edge 1); its border is the ring.
+    const Vec2 &p0 = poly[0], &p1 = poly[1], &p2 = poly[2], &p3 = poly[3];
+    std::vector<std::uint32_t> grid(static_cast<std::size_t>(a + 1) * (b + 1));
+    const auto id = [&](int i, int j) -> std::uint32_t& { return grid[static_cast<std::size_t>(j) * (a + 1) + i]; };
+    for (int j = 0; j <= b; ++j)
+      for (int i = 0; i <= a; ++i) {
+        if (j == 0) id(i, j) = at(s, i);
+        else if (i == a) id(i, j) = at(s, a + j);
+        else if (j == b) id(i, j) = at(s, a + b + (a - i));
+        else if (i == 0) id(i, j) = at(s, 2 * a + b + (b - j));
+        else {
+          const double u = static_cast<double>(i) / a, v = static_cast<double>(j) / b;
+          id(i, j) = vertex(x, (1 - u) * (1 - v) * p0 + u * (1 - v) * p1 + u * v * p2 + (1 - u) * v * p3);
+        }
+      }
+    for (int j = 0; j < b; ++j)
+      for (int i = 0; i < a; ++i) {
+        tri(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+        tri(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+      }
+  }
+  return m;
 }
 
 void build_fillet(const JointParams& p, Workpiece& w) {
@@ -151,12 +259,14 @@ std::string validate(JointType type, const JointParams& p) {
   const std::pair<std::string_view, double> all[] = {
       {"length_mm", p.length_mm},       {"width_mm", p.width_mm},   {"thickness_mm", p.thickness_mm},
       {"height_mm", p.height_mm},       {"gap_mm", p.gap_mm},       {"angle_deg", p.angle_deg},
-      {"mismatch_mm", p.mismatch_mm},   {"root_face_mm", p.root_face_mm}, {"segment_mm", p.segment_mm}};
+      {"mismatch_mm", p.mismatch_mm},   {"root_face_mm", p.root_face_mm}, {"segment_mm", p.segment_mm},
+      {"cell_mm", p.cell_mm}};
   for (const auto& [field, value] : all)
     if (!std::isfinite(value)) return bad(field, value, "must be a finite number");
   for (const auto& [field, value] : {all[0], all[1], all[2], all[3], all[8]})
     if (value <= 0.0) return bad(field, value, "must be > 0");
   if (p.gap_mm < 0.0) return bad("gap_mm", p.gap_mm, "must be >= 0");
+  if (p.cell_mm < 0.0) return bad("cell_mm", p.cell_mm, "must be >= 0 (0: no grid)");
   if (p.length_mm / p.segment_mm > 100000.0)
     return bad("segment_mm", p.segment_mm, "too small for length_mm (more than 100000 cuts)");
   switch (type) {
@@ -182,6 +292,16 @@ std::string validate(JointType type, const JointParams& p) {
     }
     default: break;
   }
+  if (p.cell_mm > 0.0) {
+    std::int64_t triangles = 0;
+    for (const Plate& plate : build_workpiece(type, p).plates)
+      triangles = std::min(kMaxWorkpieceTriangles + 1,
+                           triangles + plate_triangle_count(plate, p.segment_mm, p.cell_mm));
+    if (triangles > kMaxWorkpieceTriangles)
+      return bad("cell_mm", p.cell_mm,
+                 "too small: the mesh would have more than " + std::to_string(kMaxWorkpieceTriangles) +
+                     " triangles");
+  }
   return {};
 }
 
@@ -201,7 +321,36 @@ Workpiece build_workpiece(JointType type, const JointParams& params, const Pose&
   return w;
 }
 
-Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint) {
+Workpiece mesh_workpiece(std::shared_ptr<const Mesh> mesh, const Pose& world_from_joint,
+                         std::optional<JointType> joint, const MeshLoadStats* stats) {
+  Workpiece w;
+  w.type = joint.value_or(JointType::Fillet);
+  w.params = default_params(w.type);
+  w.world_from_joint = world_from_joint;
+  w.file_mesh = mesh ? std::move(mesh) : std::make_shared<const Mesh>();
+  w.mesh_joint = joint.has_value();
+  w.mesh_stats = stats ? *stats : mesh_edge_stats(*w.file_mesh);
+  return w;
+}
+
+std::int64_t plate_triangle_count(const Plate& plate, double segment_mm, double cell_mm) {
+  const auto& poly = plate.section_yz;
+  const double k = static_cast<double>(poly.size());
+  const double len = plate.x1_mm - plate.x0_mm;
+  const auto cuts = [](double n) { return std::max(1.0, std::ceil(n - 1e-9)); };
+  double count = 0.0;
+  if (cell_mm <= 0.0) {
+    count = 2.0 * cuts(len / segment_mm) * k + 2.0 * (k - 2.0);
+  } else {
+    const DenseGrid g = dense_grid(plate, segment_mm, cell_mm);
+    count = 2.0 * g.nx * g.ring;
+    count += poly.size() == 4 ? 2.0 * 2.0 * g.across[0] * g.across[1] : 2.0 * g.ring;
+  }
+  return static_cast<std::int64_t>(std::min(count, 9e18));
+}
+
+Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint, double cell_mm) {
+  if (cell_mm > 0.0) return dense_plate_mesh(plate, segment_mm, world_from_joint, cell_mm);
   Mesh m;
   const auto& poly = plate.section_yz;
   const int k = static_cast<int>(poly.size());
@@ -235,7 +384,13 @@ Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_jo
 
 Mesh Workpiece::mesh() const {
   Mesh m;
-  for (const auto& p : plates) m.append(plate_mesh(p, params.segment_mm, world_from_joint));
+  if (file_mesh) {
+    m.triangles = file_mesh->triangles;
+    m.vertices.reserve(file_mesh->vertices.size());
+    for (const auto& v : file_mesh->vertices)
+      m.vertices.push_back((world_from_joint * v.cast<double>()).cast<float>());
+  }
+  for (const auto& p : plates) m.append(plate_mesh(p, params.segment_mm, world_from_joint, params.cell_mm));
   return m;
 }
 

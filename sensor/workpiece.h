@@ -6,6 +6,8 @@
 // y across the seam, z out of the work towards the side the sensor looks from.
 // The joint's root (the track reference, see JointTruth::root_yz) is at the
 // origin. A workpiece's pose maps the joint frame into the world.
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "sensor/mesh.h"
+#include "sensor/mesh_file.h"
 #include "sensor/pose.h"
 
 namespace vts {
@@ -38,6 +41,8 @@ struct JointParams {
   double mismatch_mm = 0.0;     // butt, v-groove: right plate raised by this much
   double root_face_mm = 1.0;    // v-groove: height of the unbevelled land
   double segment_mm = 10.0;     // mesh: plates are cut every segment_mm along x
+  double cell_mm = 0.0;         // mesh: 0 = only the cuts along x; > 0 = every face
+                                // is also a grid of about cell_mm x cell_mm quads
 };
 
 JointParams default_params(JointType type);
@@ -68,18 +73,34 @@ struct JointTruth {
 };
 
 struct Workpiece {
-  JointType type = JointType::Fillet;
+  JointType type = JointType::Fillet;  // a mesh workpiece: see mesh_joint
   JointParams params;
   Pose world_from_joint = Pose::Identity();
   std::vector<Plate> plates;  // joint frame
   JointTruth truth;
 
+  // A mesh workpiece (a CAD part, scene key `mesh`; docs/SCENE_FORMAT.md):
+  // the triangles in the joint frame, mm, already scaled to mm. It has no
+  // plates, no seam and no truth (params are the defaults of `type`, truth
+  // all zero). Null for the joints.
+  std::shared_ptr<const Mesh> file_mesh;
+  std::string mesh_file;      // the file it was read from (absolute); empty if not from a file
+  double mesh_unit_mm = 1.0;  // mm per file unit
+  bool mesh_joint = false;    // the scene named the joint the part contains: then it is `type`
+  MeshLoadStats mesh_stats;   // what the loader found
+
+  bool is_mesh() const { return file_mesh != nullptr; }
+  // The joint is known: always for the joints, for a mesh only when named.
+  bool has_joint() const { return !is_mesh() || mesh_joint; }
+
   Mesh mesh() const;  // world frame
-  // Seam line in world: origin + s * direction, s in [0, length_mm].
+  // Seam line in world: origin + s * direction, s in [0, length_mm]. A mesh
+  // workpiece has no seam: its joint frame's origin and x axis.
   Vec3 seam_origin() const;
   Vec3 seam_direction() const;
   // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
-  // every plate, world frame; from the section polygons, not the mesh.
+  // every plate, world frame; from the section polygons, not the mesh. None
+  // for a mesh workpiece.
   std::vector<std::pair<Vec3, double>> face_planes() const;
 };
 
@@ -87,7 +108,27 @@ struct Workpiece {
 Workpiece build_workpiece(JointType type, const JointParams& params,
                           const Pose& world_from_joint = Pose::Identity());
 
-// Plate extruded along x, triangulated with a cut every segment_mm.
-Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint);
+// A mesh workpiece from a mesh in its joint frame (mm; null: an empty mesh).
+// `joint`, if given, names the joint the part contains (mesh_joint = true).
+// mesh_stats: *stats if given (the loader's), else mesh_edge_stats(mesh).
+Workpiece mesh_workpiece(std::shared_ptr<const Mesh> mesh_in_joint_frame,
+                         const Pose& world_from_joint = Pose::Identity(),
+                         std::optional<JointType> joint = std::nullopt,
+                         const MeshLoadStats* stats = nullptr);
+
+// Plate extruded along x, triangulated with a cut every segment_mm. With
+// cell_mm > 0 the cuts are at most cell_mm apart too, and every face is a
+// grid of about cell_mm x cell_mm quads: each side face has
+// ceil(edge length / cell_mm) columns across; an end cap of a four-sided
+// section is a bilinear grid (opposite sides get the larger count), other end
+// caps are fanned from the section's centroid to the subdivided outline.
+// Each plate's mesh is closed (every edge shared by two triangles).
+Mesh plate_mesh(const Plate& plate, double segment_mm, const Pose& world_from_joint,
+                double cell_mm = 0.0);
+// plate_mesh(...).triangle_count() without building it.
+std::int64_t plate_triangle_count(const Plate& plate, double segment_mm, double cell_mm = 0.0);
+
+// Most triangles a joint workpiece may have (validate() refuses a smaller cell_mm).
+inline constexpr std::int64_t kMaxWorkpieceTriangles = 20'000'000;
 
 }  // namespace vts

@@ -18,6 +18,7 @@
 
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
+#include "sensor/mesh_file.h"
 #include "sensor/profile_exr.h"
 #include "sensor/scene_file.h"
 #include "vts_runner.h"
@@ -134,7 +135,8 @@ TEST_CASE("vts scan: no arguments writes static-B.exr and says where", "[cli][gl
 }
 
 TEST_CASE("vts scan: every built-in cell - raster against the Embree reference", "[cli][gl]") {
-  for (const std::string& name : vts::builtin_cell_names()) {
+  // fillet-1m (a million triangles) is scanned in "vts mesh: fillet-1m" below.
+  for (const std::string& name : vts::builtin_cell_names(vts::CellSet::Small)) {
     DYNAMIC_SECTION(name) {
       TempDir dir;
       const Result r = run_vts(dir, "scan --cell " + name + " --reference --profiles 5 --out x.exr");
@@ -477,6 +479,122 @@ TEST_CASE("vts scan: SIGINT or SIGTERM leaves no file under the output name", "[
       const Result again = run_vts(dir, "scan --cell lap --source reference --profiles 300 --seed 11 --out after.exr");
       REQUIRE(again.code == 0);
       CHECK(slurp(dir.path / "after.exr") == before);
+    }
+  }
+}
+
+namespace {
+
+// "position_mm: [x, y, z]" and "rpy_deg: [r, p, y]" lines of a pose, exactly.
+std::string pose_yaml(const vts::Pose& pose, const std::string& indent) {
+  const auto list = [](const vts::Vec3& v) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
+    return std::string(buf);
+  };
+  return indent + "position_mm: " + list(pose.translation()) + "\n" + indent + "rpy_deg: " +
+         list(vts::rpy_deg_of(pose)) + "\n";
+}
+
+}  // namespace
+
+TEST_CASE("vts mesh: a cell written as STL scans back through a scene file like the cell", "[cli]") {
+  TempDir dir;
+  const Result w = run_vts(dir, "mesh --cell fillet --out parts/fillet.stl");
+  INFO(w.out << w.err);
+  REQUIRE(w.code == 0);
+  const vts::Cell cell = *vts::builtin_cell("fillet");
+  const std::size_t triangles = cell.mesh().triangle_count();
+  CHECK(contains(w.out, "wrote " + std::to_string(triangles) + " triangles"));
+  CHECK(contains(w.out, "closed"));
+  CHECK(w.err.empty());
+  CHECK(vts::load_mesh_file(dir.path / "parts/fillet.stl").triangle_count() == triangles);
+
+  // The scene: the STL (relative to the scene file), the built-in cell's path.
+  fs::create_directories(dir.path / "scenes");
+  dir.write("scenes/fillet_mesh.yaml", "scanner:\n  points: 256\n"
+                                       "workpieces:\n  - mesh: ../parts/fillet.stl\n    joint: fillet\n"
+                                       "path:\n  start:\n" + pose_yaml(cell.path.start, "    ") +
+                                       "  profiles: 4\n");
+  const Result m = run_vts(dir, "scan --scene scenes/fillet_mesh.yaml --source reference --ideal --out m.exr");
+  INFO(m.out << m.err);
+  REQUIRE(m.code == 0);
+  CHECK(m.err == "vts scan: workpieces[0]: mesh scenes/../parts/fillet.stl: " + std::to_string(triangles) +
+                     " triangles, 0 degenerate skipped, 0 open edges\n");
+  const Result c = run_vts(dir, "scan --cell fillet --source reference --ideal --points 256 --profiles 4 --out c.exr");
+  REQUIRE(c.code == 0);
+  CHECK(c.err.empty());
+  const vts::ProfileRecording rm = vts::read_profile_exr(dir.path / "m.exr");
+  const vts::ProfileRecording rc = vts::read_profile_exr(dir.path / "c.exr");
+  REQUIRE(rm.profiles.size() == 4);
+  REQUIRE(rc.profiles.size() == 4);
+  int valid = 0;
+  for (std::size_t i = 0; i < 4; ++i)
+    for (int k = 0; k < 256; ++k) {
+      INFO("profile " << i << " column " << k);
+      REQUIRE(rm.profiles[i].valid[k] == rc.profiles[i].valid[k]);
+      CHECK(std::abs(rm.profiles[i].range_mm[k] - rc.profiles[i].range_mm[k]) <= 1e-4);
+      valid += rm.profiles[i].valid[k];
+    }
+  CHECK(valid > 4 * 256 / 2);
+  // The recording's scene names the mesh (absolute) and the joint; vts track
+  // takes the fillet template from it without reading the mesh.
+  const vts::Cell stored = vts::parse_scene(rm.info.scene_text, "header", vts::MeshFiles::Skip);
+  REQUIRE(stored.workpieces.size() == 1);
+  CHECK(stored.workpieces[0].mesh_file == fs::canonical(dir.path / "parts/fillet.stl").string());
+  fs::remove(dir.path / "parts/fillet.stl");
+  const Result t = run_vts(dir, "track m.exr");
+  INFO(t.out << t.err);
+  REQUIRE(t.code == 0);
+  std::istringstream lines(t.out);
+  int n = 0;
+  for (std::string line; std::getline(lines, line); ++n) {
+    CHECK(contains(line, "\"joint\":\"fillet\""));
+    CHECK(contains(line, "\"status\":\"ok\""));
+  }
+  CHECK(n == 4);
+}
+
+TEST_CASE("vts mesh: fillet-1m as binary PLY", "[cli]") {
+  TempDir dir;
+  const Result r = run_vts(dir, "mesh --cell fillet-1m --out fillet-1m.ply");
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(contains(r.out, "wrote 1010888 triangles, 505448 vertices"));
+  CHECK(contains(r.out, "closed"));
+  std::ifstream in(dir.path / "fillet-1m.ply", std::ios::binary);
+  std::string header;
+  for (std::string line; std::getline(in, line) && line != "end_header";) header += line + "\n";
+  CHECK(contains(header, "format binary_little_endian 1.0\n"));
+  CHECK(contains(header, "element vertex 505448\n"));
+  CHECK(contains(header, "element face 1010888\n"));
+  const auto data_start = static_cast<std::uintmax_t>(in.tellg());
+  CHECK(fs::file_size(dir.path / "fillet-1m.ply") == data_start + 12 * 505448 + 13 * 1010888);
+  CHECK(dir.files() == std::vector<std::string>{"fillet-1m.ply"});
+}
+
+TEST_CASE("vts mesh: bad inputs exit 2 and create nothing", "[cli]") {
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {"--cell nosuch --out x.stl", "vts mesh: --cell = 'nosuch': unknown cell; valid names: fillet, corner"},
+      {"--cell fillet --out x.step", "vts mesh: --out = 'x.step': unsupported mesh file type '.step' (expected .stl, .obj or .ply)"},
+      {"--cell fillet", "--out is required"},
+      {"--scene missing.yaml --out x.stl", "vts mesh: --scene: missing.yaml:0: scene file not found"},
+      {"--scene m.yaml --out x.stl", "vts mesh: --scene: m.yaml:2: workpieces[0].mesh: nothing.obj: mesh file not found"},
+      {"--cell fillet --scene m.yaml --out x.stl", "--cell"},
+  };
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.args) {
+      TempDir dir;
+      dir.write("m.yaml", "workpieces:\n  - mesh: nothing.obj\n");
+      const Result r = run_vts(dir, "mesh " + c.args);
+      INFO("stdout: " << r.out << "\nstderr: " << r.err);
+      CHECK(r.code == 2);
+      CHECK(contains(r.err, c.expected));
+      CHECK(r.out.empty());
+      CHECK(dir.files() == std::vector<std::string>{"m.yaml"});
     }
   }
 }

@@ -101,8 +101,13 @@ void check_same_cell(const Cell& a, const Cell& b) {
     CHECK(wa.params.mismatch_mm == wb.params.mismatch_mm);
     CHECK(wa.params.root_face_mm == wb.params.root_face_mm);
     CHECK(wa.params.segment_mm == wb.params.segment_mm);
+    CHECK(wa.params.cell_mm == wb.params.cell_mm);
     check_pose(wa.world_from_joint, wb.world_from_joint);
     CHECK(wa.plates.size() == wb.plates.size());
+    CHECK(wa.is_mesh() == wb.is_mesh());
+    CHECK(wa.has_joint() == wb.has_joint());
+    CHECK(wa.mesh_file == wb.mesh_file);
+    CHECK(wa.mesh_unit_mm == wb.mesh_unit_mm);
   }
   check_pose(a.path.start, b.path.start);
   CHECK((a.path.direction - b.path.direction).norm() <= 1e-12);
@@ -243,6 +248,9 @@ TEST_CASE("scene file: out-of-range values report validate()'s message", "[scene
   expect_error(with_line(7, "    thickness_mm: 0"), 7, "workpieces[0].thickness_mm", "thickness_mm = 0: must be > 0");
   expect_error(with_line(7, "    length_mm: -200"), 7, "workpieces[0].length_mm", "must be > 0");
   expect_error(with_line(7, "    angle_deg: 10"), 7, "workpieces[0].angle_deg", "angle_deg = 10");
+  expect_error(with_line(7, "    cell_mm: -1"), 7, "workpieces[0].cell_mm", "cell_mm = -1: must be >= 0 (0: no grid)");
+  expect_error(with_line(7, "    cell_mm: 0.01"), 7, "workpieces[0].cell_mm",
+               "cell_mm = 0.01: too small: the mesh would have more than 20000000 triangles");
   expect_error(with_line(3, "  points: 8"), 3, "scanner.points", "points = 8: must be between 16 and 4096");
   expect_error(with_line(3, "  fan_deg: 200"), 3, "scanner.fan_deg", "fan_deg = 200");
   expect_error(with_line(4, "  rate_hz: 0"), 4, "scanner.rate_hz", "rate_hz = 0: must be > 0");
@@ -287,6 +295,18 @@ TEST_CASE("scene file: missing file", "[scene]") {
     CHECK(e.line == 0);
     CHECK(std::string(e.what()) == "/nonexistent/dir/missing.yaml:0: scene file not found");
   }
+}
+
+TEST_CASE("scene file: cell_mm meshes a joint as a grid and keeps its truth", "[scene]") {
+  const Cell c = vts::parse_scene("workpieces:\n  - joint: butt\n    gap_mm: 2\n    cell_mm: 2.5\n", "g.yaml");
+  const vts::Workpiece& w = c.workpieces.at(0);
+  CHECK(w.params.cell_mm == 2.5);
+  CHECK(w.truth.gap_mm == 2.0);
+  vts::JointParams p = w.params;
+  p.cell_mm = 0.0;
+  const vts::Workpiece plain = vts::build_workpiece(vts::JointType::Butt, p);
+  CHECK(w.mesh().triangle_count() > 50 * plain.mesh().triangle_count());
+  CHECK(vts::parse_scene(vts::scene_to_yaml(c), "r.yaml").workpieces.at(0).params.cell_mm == 2.5);
 }
 
 TEST_CASE("scene file: path options", "[scene]") {

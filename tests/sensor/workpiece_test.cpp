@@ -1,9 +1,12 @@
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "sensor/cell.h"
+#include "sensor/mesh_file.h"
 #include "sensor/workpiece.h"
 
 using namespace vts;
@@ -114,7 +117,8 @@ TEST_CASE("static setups: sensor at the Table 2 distance with the optical axis a
 }
 
 TEST_CASE("built-in cells all exist and the path steps along the seam", "[cells]") {
-  for (const auto& name : builtin_cell_names()) {
+  CHECK(builtin_cell_names(CellSet::Small).size() + 1 == builtin_cell_names().size());
+  for (const auto& name : builtin_cell_names(CellSet::Small)) {
     INFO(name);
     const auto cell = builtin_cell(name);
     REQUIRE(cell);
@@ -138,4 +142,86 @@ TEST_CASE("pose helpers: rpy round trip and look-at frame", "[pose]") {
   CHECK((look.linear().col(0) - Vec3(1, 0, 0)).norm() < 1e-12);
   CHECK((look.linear().col(0) - look.linear().col(1).cross(look.linear().col(2))).norm() < 1e-12);
   CHECK_FALSE(pose_look_at({0, 0, 100}, {0, 0, 0}, {0, 0, 1}, look));
+}
+
+TEST_CASE("cell_mm: every joint's grid mesh is closed and lies on the analytic faces", "[geometry][mesh]") {
+  for (JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt,
+                         JointType::VGroove, JointType::Plate}) {
+    INFO(to_string(type));
+    JointParams p = default_params(type);
+    p.gap_mm = type == JointType::Lap || type == JointType::Fillet ? 1.5 : p.gap_mm;
+    p.cell_mm = 3.0;
+    REQUIRE(validate(type, p).empty());
+    const Pose pose = pose_from_xyz_rpy({10, -20, 5}, {3, -7, 25});
+    const Workpiece w = build_workpiece(type, p, pose);
+    const Mesh m = w.mesh();
+    std::int64_t expected = 0;
+    for (const Plate& plate : w.plates) expected += plate_triangle_count(plate, p.segment_mm, p.cell_mm);
+    CHECK(static_cast<std::int64_t>(m.triangle_count()) == expected);
+    const MeshLoadStats edges = mesh_edge_stats(m);
+    CHECK(edges.closed());
+    const auto planes = w.face_planes();
+    for (const auto& t : m.triangles) REQUIRE(on_outward_face(m, t, planes));
+    // Far denser than the plain mesh, with no edge longer than a grid cell's
+    // diagonal except in the fanned caps of the five-sided v-groove plates.
+    CHECK(m.triangle_count() > 20 * build_workpiece(type, default_params(type), pose).mesh().triangle_count());
+    if (type != JointType::VGroove)
+      for (const auto& t : m.triangles)
+        for (int k = 0; k < 3; ++k)
+          REQUIRE((m.vertices[t[k]] - m.vertices[t[(k + 1) % 3]]).norm() <= 3.0f * std::sqrt(2.0f) + 1e-3f);
+  }
+  // cell_mm = 0 is the plain mesh; the count function agrees with it.
+  for (const auto& name : builtin_cell_names(CellSet::Small)) {
+    const Cell cell = *builtin_cell(name);
+    const Workpiece& w = cell.workpieces.front();
+    std::int64_t expected = 0;
+    for (const Plate& plate : w.plates) expected += plate_triangle_count(plate, w.params.segment_mm);
+    CHECK(static_cast<std::int64_t>(w.mesh().triangle_count()) == expected);
+  }
+}
+
+TEST_CASE("cell_mm: negative and too fine grids are refused", "[geometry][mesh]") {
+  JointParams p = default_params(JointType::Fillet);
+  p.cell_mm = -1.0;
+  CHECK(validate(JointType::Fillet, p) == "cell_mm = -1: must be >= 0 (0: no grid)");
+  p.cell_mm = 0.05;
+  CHECK(validate(JointType::Fillet, p) ==
+        "cell_mm = 0.05: too small: the mesh would have more than 20000000 triangles");
+  p.cell_mm = std::numeric_limits<double>::min();
+  CHECK_FALSE(validate(JointType::Fillet, p).empty());
+  p.cell_mm = 1e300;
+  CHECK(validate(JointType::Fillet, p).empty());
+  CHECK(build_workpiece(JointType::Fillet, p).mesh().triangle_count() == 2 * 20 * 8 + 2 * 2 * 2);
+}
+
+TEST_CASE("fillet-1m: 1010888 triangles on the fillet's analytic faces", "[cells][mesh]") {
+  const auto start = std::chrono::steady_clock::now();
+  const auto cell = builtin_cell("fillet-1m");
+  REQUIRE(cell);
+  const Mesh m = cell->mesh();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  WARN("fillet-1m: " << m.triangle_count() << " triangles, " << m.vertices.size() << " vertices, built in "
+                     << seconds << " s");
+  CHECK(m.triangle_count() == 1010888);
+  CHECK(builtin_cell_description("fillet-1m").find("1010888 triangles") != std::string::npos);
+  const Workpiece& w = cell->workpieces.front();
+  CHECK(w.type == JointType::Fillet);
+  CHECK(w.params.length_mm == 600.0);
+  CHECK(w.params.cell_mm == 0.78);
+  CHECK(mesh_edge_stats(m).closed());
+  // Every triangle lies on one analytic face (wound outward), and no edge is
+  // longer than a cell's diagonal: the mesh is within cell_mm of the planes
+  // everywhere, and on them to float precision.
+  const auto planes = w.face_planes();
+  const float diagonal = static_cast<float>(w.params.cell_mm * std::sqrt(2.0)) + 1e-4f;
+  std::size_t off_face = 0, too_long = 0;
+  for (const auto& t : m.triangles) {
+    off_face += !on_outward_face(m, t, planes);
+    for (int k = 0; k < 3; ++k) too_long += (m.vertices[t[k]] - m.vertices[t[(k + 1) % 3]]).norm() > diagonal;
+  }
+  CHECK(off_face == 0);
+  CHECK(too_long == 0);
+  // The same seam and default path as the built-in fillet.
+  const Cell fillet = *builtin_cell("fillet");
+  CHECK((cell->path.start.matrix() - fillet.path.start.matrix()).cwiseAbs().maxCoeff() < 1e-12);
 }

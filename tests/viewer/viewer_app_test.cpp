@@ -41,7 +41,7 @@ TEST_CASE("viewer app: every built-in cell scans and lights a line", "[viewer][g
   Fixture f;
   AppOptions options;
   App app(options, f.renderer);
-  for (const auto& name : vts::builtin_cell_names()) {
+  for (const auto& name : vts::builtin_cell_names(vts::CellSet::Small)) {
     INFO("cell " << name);
     app.load_builtin(name);
     REQUIRE(app.scene_label() == name);
@@ -57,6 +57,29 @@ TEST_CASE("viewer app: every built-in cell scans and lights a line", "[viewer][g
     CHECK(view.translucent_triangles.size() % 3 == 0);
     CHECK_FALSE(view.translucent_triangles.empty());
   }
+}
+
+TEST_CASE("viewer app: a mesh workpiece scans and is tracked with its joint", "[viewer][gl]") {
+  // The built-in fillet's triangles as a CAD part (no seam, no truth) that
+  // names its joint, on the fillet's path.
+  const vts::Cell fillet = *vts::builtin_cell("fillet");
+  auto cell = std::make_shared<vts::Cell>(fillet);
+  cell->workpieces = {vts::mesh_workpiece(std::make_shared<const vts::Mesh>(fillet.mesh()),
+                                          vts::Pose::Identity(), vts::JointType::Fillet)};
+  Fixture f;
+  AppOptions options;
+  options.given_cell = cell;
+  options.given_label = "fillet-mesh";
+  App app(options, f.renderer);
+  run_frames(app, 3);
+  REQUIRE(app.last_ideal());
+  CHECK(app.last_ideal()->valid_count() > app.last_ideal()->size() / 2);
+  REQUIRE(app.last_track());
+  CHECK(app.last_track()->joint == vts::tracker::JointType::Fillet);
+  CHECK(app.last_track()->status == vts::tracker::TrackStatus::Ok);
+  SceneView view;
+  app.build_scene(view, 800, 600);
+  CHECK(laser_points(view) == app.last_ideal()->valid_count());
 }
 
 TEST_CASE("viewer app: the default cell is tracked and accepted", "[viewer][gl]") {
