@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <exception>
 #include <functional>
@@ -49,9 +50,19 @@ constexpr int kMaxThreads = 16;
 // Below this many profiles per worker a batch is not split further.
 constexpr std::size_t kMinProfilesPerThread = 32;
 
-// The camera-shadow test takes the lit columns in groups of this many: one
-// spatial query per group, then every candidate against every column of it.
-constexpr int kShadowGroup = 64;
+// Collinear runs of slice segments are joined when every end point lies
+// within this of the run's line.
+constexpr double kCollinearMm = 1e-4;
+
+// The camera-shadow test takes the lit columns in groups: one spatial query
+// per group, then every candidate against every column of it. Larger groups
+// mean fewer queries but more candidates per column: on meshes of a few
+// hundred triangles 128 columns per group was fastest, on a 1M-triangle one
+// 32 (docs/PERFORMANCE.md).
+constexpr int kMaxShadowGroup = 128;
+constexpr int kShadowGroupSmallMesh = 128;
+constexpr int kShadowGroupLargeMesh = 32;
+constexpr std::size_t kLargeMeshTriangles = 50'000;
 
 std::string shader_log(GLuint shader) {
   GLint length = 0;
@@ -222,7 +233,10 @@ static_assert(sizeof(StreamVertex) == 20);
 // Works in the sensor frame; no allocation once the scratch has grown.
 class ShadowTester {
  public:
-  explicit ShadowTester(const SharedScene& scene) : s_(scene) {
+  explicit ShadowTester(const SharedScene& scene)
+      : s_(scene),
+        group_(scene.bvh.triangle_count() >= kLargeMeshTriangles ? kShadowGroupLargeMesh
+                                                                 : kShadowGroupSmallMesh) {
     const Eigen::Vector3d c = s_.camera_mm;
     xa_ = c.normalized();
     za_ = xa_.cross(Eigen::Vector3d::UnitY());
@@ -230,12 +244,12 @@ class ShadowTester {
 
   // Clears out.camera_visible where a triangle hides the lit point from the
   // camera farther than kShadowEpsilonMm from the point.
-  [[gnu::noinline]] void apply(const Eigen::Matrix3d& r, const Eigen::Vector3d& origin_c, Profile& out) {
+  void apply(const Eigen::Matrix3d& r, const Eigen::Vector3d& origin_c, Profile& out) {
     const int n = s_.desc.points;
     const Eigen::Vector3d c = s_.camera_mm;
     const Eigen::Vector3d camera_c = r * c + origin_c;  // mesh-centred world
-    for (int g0 = 0; g0 < n; g0 += kShadowGroup) {
-      const int g1 = std::min(n, g0 + kShadowGroup);
+    for (int g0 = 0; g0 < n; g0 += group_) {
+      const int g1 = std::min(n, g0 + group_);
       // Sight lines D = P - C of the group's lit points, and their extent as
       // seen from the camera: x'/z' (the same all along a sight line) and z'.
       int m = 0;
@@ -250,17 +264,20 @@ class ShadowTester {
         q_hi = std::max(q_hi, q);
         zc_max = std::max(zc_max, zc);
         column_[m] = i;
-        dx_[m] = static_cast<float>(d.x());
-        dy_[m] = static_cast<float>(d.y());
-        dz_[m] = static_cast<float>(d.z());
-        d_[m] = d;
+        // The candidates are tested in the mesh-centred world frame, where
+        // the hierarchy keeps their corners: no transform per candidate.
+        const Eigen::Vector3d dw = r * d;
+        dx_[m] = static_cast<float>(dw.x());
+        dy_[m] = static_cast<float>(dw.y());
+        dz_[m] = static_cast<float>(dw.z());
+        d_[m] = dw;
         // Occluders must cross the sight line before 1 - eps/|D| of the way.
         tmax_[m] = static_cast<float>(1.0 - kShadowEpsilonMm / d.norm());
         hidden_[m] = 0;
         ++m;
       }
       if (m == 0) continue;
-      for (int j = m; j < kShadowGroup; ++j) {
+      for (int j = m; j < group_; ++j) {
         dx_[j] = dy_[j] = dz_[j] = 0.0f;
         tmax_[j] = -1.0f;
         hidden_[j] = 0;
@@ -306,7 +323,8 @@ class ShadowTester {
       // candidate hit again in double. Float alone is not enough: a face the
       // camera sees almost edge-on puts the crossing with the point's own
       // face a few hundredths of a millimetre off the point.
-      for (std::uint32_t t : candidates_) {
+      for (std::uint32_t e : candidates_) {
+        const std::uint32_t t = s_.bvh.triangle(e);
         if (s_.mesh.closed) {
           // A sight line into a closed solid enters it through a face turned
           // towards the camera; the others need no test.
@@ -314,9 +332,9 @@ class ShadowTester {
           if (plane[0] * camera_c.x() + plane[1] * camera_c.y() + plane[2] * camera_c.z() <= plane[3])
             continue;
         }
-        const Eigen::Vector3d a = corner(t, 0, r, origin_c), b = corner(t, 1, r, origin_c),
-                              cc = corner(t, 2, r, origin_c);
-        const Eigen::Vector3d e1v = b - a, e2v = cc - a, tv = c - a;
+        const std::array<float, 9>& k = s_.bvh.corners(e);
+        const Eigen::Vector3d a(k[0], k[1], k[2]), b(k[3], k[4], k[5]), cc(k[6], k[7], k[8]);
+        const Eigen::Vector3d e1v = b - a, e2v = cc - a, tv = camera_c - a;
         const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
         const double tq = e2v.dot(qv);
         const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
@@ -326,7 +344,7 @@ class ShadowTester {
         // t = 1, which must stay out: 1 > tmax + kSlackT while |D| < 1 m).
         constexpr float kSlack = 1e-3f, kSlackT = 1e-5f;
         int any = 0;
-        for (int j = 0; j < kShadowGroup; ++j) {
+        for (int j = 0; j < group_; ++j) {
           const float det = dx_[j] * ax + dy_[j] * ay + dz_[j] * az;
           const float sign = det < 0.0f ? -1.0f : 1.0f;
           const float adet = det * sign;
@@ -361,19 +379,13 @@ class ShadowTester {
   }
 
  private:
-  // Corner v of triangle t in the sensor frame.
-  Eigen::Vector3d corner(std::uint32_t t, int v, const Eigen::Matrix3d& r,
-                         const Eigen::Vector3d& origin_c) const {
-    const float* p = &s_.mesh.positions[3 * std::size_t(s_.mesh.indices[3 * std::size_t(t) + v])];
-    return r.transpose() * (Eigen::Vector3d(p[0], p[1], p[2]) - origin_c);
-  }
-
   const SharedScene& s_;
+  int group_;                // columns per group
   Eigen::Vector3d xa_, za_;  // camera x' (along the baseline) and z', sensor frame
-  std::array<int, kShadowGroup> column_{};
-  std::array<float, kShadowGroup> dx_{}, dy_{}, dz_{}, tmax_{};
-  std::array<int, kShadowGroup> hidden_{}, maybe_{};
-  std::array<Eigen::Vector3d, kShadowGroup> d_{};  // sight lines in double
+  std::array<int, kMaxShadowGroup> column_{};
+  std::array<float, kMaxShadowGroup> dx_{}, dy_{}, dz_{}, tmax_{};
+  std::array<int, kMaxShadowGroup> hidden_{}, maybe_{};
+  std::array<Eigen::Vector3d, kMaxShadowGroup> d_{};  // sight lines, world frame, double
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
 };
@@ -459,28 +471,35 @@ class Worker {
   }
 
  private:
-  // Cuts triangle t with the laser plane x = 0 of the sensor frame and, if
-  // the cut is a segment in front of the near plane, appends it to the stream
-  // as a quad covering exactly row `row` of `rows`. Edge crossings are
-  // computed from the edge's lower-numbered vertex, so the two triangles on
-  // an edge produce bit-identical end points and the slice stays watertight.
-  void slice(std::uint32_t row, int rows, std::uint32_t t, const Eigen::Matrix3d& rt,
-             const Eigen::Vector3d& origin_c) {
-    const auto& m = s_.mesh;
-    if (m.closed) {
+  // One cut of a triangle with a laser plane: end points (y, z) in the
+  // sensor frame, and the triangle.
+  struct Segment {
+    Eigen::Vector2d p0, p1;
+    std::uint32_t triangle;
+  };
+
+  // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
+  // sensor frame and, if the cut is a segment, appends it to segments_. Edge
+  // crossings are computed from the edge's lexicographically smaller corner,
+  // so the two triangles on an edge produce bit-identical end points and the
+  // slice stays watertight.
+  void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
+    const std::uint32_t t = s_.bvh.triangle(e);
+    if (s_.mesh.closed) {
       // A face turned away from the laser is hidden behind the solid's front.
-      const double* plane = &m.planes[4 * std::size_t(t)];
+      const double* plane = &s_.mesh.planes[4 * std::size_t(t)];
       if (plane[0] * origin_c.x() + plane[1] * origin_c.y() + plane[2] * origin_c.z() <= plane[3])
         return;
     }
-    const std::uint32_t* idx = &m.indices[3 * std::size_t(t)];
+    const std::array<float, 9>& c = s_.bvh.corners(e);
     Eigen::Vector3d v[3];
-    for (int k = 0; k < 3; ++k) {
-      const float* p = &m.positions[3 * std::size_t(idx[k])];
-      v[k] = rt * (Eigen::Vector3d(p[0], p[1], p[2]) - origin_c);
-    }
-    // End points (y, z) of the cut: vertices on the plane, and crossings of
-    // edges whose ends lie strictly on opposite sides.
+    for (int k = 0; k < 3; ++k)
+      v[k] = rt * (Eigen::Vector3d(c[3 * k], c[3 * k + 1], c[3 * k + 2]) - origin_c);
+    auto smaller = [&](int a, int b) {
+      return std::lexicographical_compare(&c[3 * a], &c[3 * a + 3], &c[3 * b], &c[3 * b + 3]);
+    };
+    // End points: corners on the plane, and crossings of edges whose ends lie
+    // strictly on opposite sides.
     Eigen::Vector2d ends[3];
     int count = 0;
     for (int k = 0; k < 3; ++k)
@@ -489,13 +508,123 @@ class Worker {
     for (int k = 0; k < 3 && count < 2; ++k) {
       int a = k, b = (k + 1) % 3;
       if (!((v[a].x() < 0.0 && v[b].x() > 0.0) || (v[a].x() > 0.0 && v[b].x() < 0.0))) continue;
-      if (idx[b] < idx[a]) std::swap(a, b);
+      if (smaller(b, a)) std::swap(a, b);
       const double s = v[a].x() / (v[a].x() - v[b].x());
       ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
     }
-    if (count < 2) return;
-    Eigen::Vector2d p0 = ends[0], p1 = ends[1];
-    // Keep z >= near (the old near clip plane).
+    if (count < 2 || ends[0] == ends[1]) return;
+    segments_.push_back({ends[0], ends[1], t});
+  }
+
+  // Joins runs of connected, collinear segments of one profile (a flat face
+  // meshed finely cuts into many) into single segments: fewer triangles to
+  // draw, the same coverage and, because a column's range is its ray's
+  // intersection with the kept triangle's plane, which on a collinear run is
+  // the run's line, the same ranges within kCollinearMm. Segments meet where
+  // they share a bit-identical end point; a point shared by more than two is
+  // not joined through.
+  void join_collinear() {
+    const std::size_t m = segments_.size();
+    if (m < 2) return;
+    std::size_t cap = 16;
+    while (cap < 4 * m) cap *= 2;
+    if (slots_.size() < cap) slots_.assign(cap, {});
+    ++stamp_;
+    link_.assign(2 * m, kNone);
+    auto hash = [](const Eigen::Vector2d& p) {
+      std::uint64_t a, b;
+      std::memcpy(&a, &p.x(), 8);
+      std::memcpy(&b, &p.y(), 8);
+      std::uint64_t h = a * 0x9e3779b97f4a7c15ULL ^ (b + 0x632be59bd9b4e019ULL + (a << 6) + (a >> 2));
+      return h ^ (h >> 29);
+    };
+    auto point = [&](std::uint32_t end) -> const Eigen::Vector2d& {
+      return end & 1 ? segments_[end >> 1].p1 : segments_[end >> 1].p0;
+    };
+    for (std::uint32_t end = 0; end < 2 * m; ++end) {
+      const Eigen::Vector2d& p = point(end);
+      for (std::size_t h = hash(p) & (cap - 1);; h = (h + 1) & (cap - 1)) {
+        Slot& slot = slots_[h];
+        if (slot.stamp != stamp_) {
+          slot = {stamp_, end, 1};
+          break;
+        }
+        if (point(slot.first) != p) continue;
+        if (++slot.count == 2) {
+          link_[end] = slot.first;
+          link_[slot.first] = end;
+        } else {  // three or more meet here: no joining through this point
+          link_[end] = kNone;
+          link_[slot.first] = kNone;
+          for (std::uint32_t e = 0; e < end; ++e)
+            if (link_[e] != kNone && point(e) == p) link_[e] = kNone;
+        }
+        break;
+      }
+    }
+    // Walk each chain from one of its ends; join while collinear.
+    used_.assign(m, 0);
+    joined_.clear();
+    auto collinear = [](const Eigen::Vector2d& a, const Eigen::Vector2d& dir, double len,
+                        const Eigen::Vector2d& q) {
+      const Eigen::Vector2d d = q - a;
+      return std::abs(dir.x() * d.y() - dir.y() * d.x()) <= kCollinearMm * len;
+    };
+    for (std::size_t start = 0; start < m; ++start) {
+      if (used_[start]) continue;
+      // Go back to the start of the collinear run containing `start`.
+      std::uint32_t seg = static_cast<std::uint32_t>(start), out_end = 1;  // leave by p1
+      {
+        const Eigen::Vector2d a = segments_[seg].p0, dir = segments_[seg].p1 - a;
+        const double len = dir.norm();
+        std::uint32_t back = 2 * seg;  // the end we arrived through (p0)
+        double reach_back = 0.0;       // how far back along dir the run reaches
+        std::size_t guard = 0;
+        while (link_[back] != kNone && guard++ < m) {
+          const std::uint32_t other = link_[back];
+          const std::uint32_t s2 = other >> 1;
+          if (used_[s2] || s2 == start) break;
+          const Eigen::Vector2d& far = (other & 1) ? segments_[s2].p0 : segments_[s2].p1;
+          // Collinear and further back (two faces cut along a shared edge
+          // lying in the plane give the same segment twice: not a run).
+          const double along = (far - a).dot(dir);
+          if (!collinear(a, dir, len, far) || !(along < reach_back)) break;
+          reach_back = along;
+          seg = s2;
+          back = other ^ 1;  // its far end
+        }
+        out_end = back & 1 ? 0 : 1;
+      }
+      // Forward from `seg`, entering by its end (out_end ^ 1).
+      const std::uint32_t first = seg;
+      Eigen::Vector2d p0 = out_end ? segments_[seg].p0 : segments_[seg].p1;
+      Eigen::Vector2d p1 = out_end ? segments_[seg].p1 : segments_[seg].p0;
+      used_[seg] = 1;
+      const Eigen::Vector2d dir = p1 - p0;
+      const double len = dir.norm();
+      std::uint32_t leave = 2 * seg + out_end;
+      double reach = len * len;  // (p1 - p0) . dir
+      for (std::size_t guard = 0; link_[leave] != kNone && guard < m; ++guard) {
+        const std::uint32_t other = link_[leave];
+        const std::uint32_t s2 = other >> 1;
+        if (used_[s2]) break;
+        const Eigen::Vector2d& far = (other & 1) ? segments_[s2].p0 : segments_[s2].p1;
+        const double along = (far - p0).dot(dir);
+        if (!collinear(p0, dir, len, far) || !(along > reach)) break;
+        reach = along;
+        used_[s2] = 1;
+        p1 = far;
+        leave = other ^ 1;
+      }
+      joined_.push_back({p0, p1, segments_[first].triangle});
+    }
+    segments_.swap(joined_);
+  }
+
+  // Appends segment g to the stream as a quad covering exactly row `row` of
+  // `rows`, cut at the near plane.
+  void emit(const Segment& g, std::uint32_t row, int rows) {
+    Eigen::Vector2d p0 = g.p0, p1 = g.p1;
     if (p0.y() < kNearClipMm && p1.y() < kNearClipMm) return;
     if (p0.y() < kNearClipMm) p0 = p0 + (kNearClipMm - p0.y()) / (p1.y() - p0.y()) * (p1 - p0);
     if (p1.y() < kNearClipMm) p1 = p1 + (kNearClipMm - p1.y()) / (p0.y() - p1.y()) * (p0 - p1);
@@ -505,6 +634,7 @@ class Worker {
     const float d1 = static_cast<float>(kNearClipMm / p1.y());
     const float y_lo = static_cast<float>(2.0 * row / rows - 1.0);
     const float y_hi = static_cast<float>(2.0 * (row + 1) / rows - 1.0);
+    const std::uint32_t t = g.triangle;
     stream_.push_back({x0, y_lo, d0, row, t});
     stream_.push_back({x1, y_lo, d1, row, t});
     stream_.push_back({x1, y_hi, d1, row, t});
@@ -536,7 +666,10 @@ class Worker {
       culled_.clear();
       s_.bvh.crossing_plane(n_world, n_world.dot(origin_c), lo, hi, kCullMarginMm, culled_);
       const Eigen::Matrix3d rt = r.transpose();
-      for (std::uint32_t t : culled_) slice(static_cast<std::uint32_t>(k), count, t, rt, origin_c);
+      segments_.clear();
+      for (std::uint32_t e : culled_) slice(e, rt, origin_c);
+      join_collinear();
+      for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
     }
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -592,7 +725,16 @@ class Worker {
   int rows_ = 1;       // profiles per pass
   std::vector<StreamVertex> stream_;       // per pass, grows to its largest size
   std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
-  std::vector<std::uint32_t> culled_;      // one query's triangles
+  std::vector<std::uint32_t> culled_;      // one query's hierarchy entries
+  struct Slot {
+    std::uint32_t stamp = 0, first = 0, count = 0;
+  };
+  static constexpr std::uint32_t kNone = ~0u;
+  std::vector<Segment> segments_, joined_;  // one profile's cuts
+  std::vector<Slot> slots_;                // end point hash table (stamped)
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> link_;        // per segment end: the end it meets, or kNone
+  std::vector<std::uint8_t> used_;
   std::vector<std::uint32_t> readback_;    // per row, column: triangle + 1, 0 = no hit
   GLuint program_ = 0;
   GLuint vao_ = 0, stream_vbo_ = 0;

@@ -26,15 +26,22 @@ class MeshBvh {
 
   std::size_t triangle_count() const { return tri_count_; }
 
-  // Triangles t with vertices on both sides of (or on) the plane
+  // Queries append entries: positions in the hierarchy's own triangle order,
+  // where a leaf's triangles lie together in memory. triangle(e) gives the
+  // triangle number (index into `triangles` / 3), corners(e) its corners
+  // (x, y, z of each, as given).
+  std::uint32_t triangle(std::uint32_t entry) const { return order_[entry]; }
+  const std::array<float, 9>& corners(std::uint32_t entry) const { return corners_[entry]; }
+
+  // Triangles with vertices on both sides of (or on) the plane
   // dot(n, p) = d (within tol_mm), and whose bounding box meets the box
-  // [box_lo, box_hi]. Appends triangle numbers (index into `triangles` / 3) to
-  // out, in no particular order, each once.
+  // [box_lo, box_hi]. Appends their entries to out, each once, in no
+  // particular order.
   void crossing_plane(const Eigen::Vector3d& n, double d, const Eigen::Vector3d& box_lo,
                       const Eigen::Vector3d& box_hi, double tol_mm,
                       std::vector<std::uint32_t>& out) const;
 
-  // Triangles not entirely outside any one of the half-spaces
+  // Entries of the triangles not entirely outside any one of the half-spaces
   // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).
   // Conservative: a triangle outside the region but not outside a single
   // plane is kept.
