@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "apps/scan.h"
@@ -353,14 +354,20 @@ int execute(const ScanPlan& plan) {
   } restore;
 
   ProfileExrWriter writer(plan.out, info);
-  constexpr int kBatch = 64;
+  // A batch: the raster source splits it over its workers (one OpenGL
+  // context each), the error model runs on as many threads, then the rows
+  // are written in order. Memory stays bounded by the batch, whatever n is.
+  constexpr int kBatch = 512;
+  const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
   std::vector<Pose> poses;
   // Ideal profiles from the sources, measured ones from the error model. The
-  // draws are keyed by profile index, so both sources see the same ones.
+  // draws are keyed by profile index, so both sources see the same ones, and
+  // splitting a batch over threads changes nothing.
   std::vector<Profile> main(kBatch), ref(ref_source ? kBatch : 0);
-  Profile measured, measured_ref;
-  ScanState state, state_ref;
-  state.seed = state_ref.seed = plan.seed;
+  std::vector<Profile> measured(kBatch), measured_ref(ref_source ? kBatch : 0);
+  std::vector<ScanState> states(threads), states_ref(threads);
+  for (ScanState& s : states) s.seed = plan.seed;
+  for (ScanState& s : states_ref) s.seed = plan.seed;
   const bool model = !cell.scanner.ideal;
   Stats stats;
   Progress progress(n);
@@ -379,23 +386,34 @@ int execute(const ScanPlan& plan) {
         p->time_s = static_cast<double>(i) / cell.scanner.rate_hz;
         p->index = i;
       }
-      const Profile* out = &main[k];
-      const Profile* reference = !plan.with_reference ? nullptr : ref_source ? &ref[k] : &main[k];
-      if (model) {
-        apply_error_model(cell.scanner, main[k], state, measured);
-        out = &measured;
-        if (ref_source) {
-          apply_error_model(cell.scanner, ref[k], state_ref, measured_ref);
-          reference = &measured_ref;
-        } else if (reference) {
-          reference = &measured;
+    }
+    if (model) {
+      auto run = [&](int t, int begin, int end) {
+        for (int k = begin; k < end; ++k) {
+          apply_error_model(cell.scanner, main[k], states[t], measured[k]);
+          if (ref_source) apply_error_model(cell.scanner, ref[k], states_ref[t], measured_ref[k]);
         }
-      }
+      };
+      const int parts = std::clamp(count / 64, 1, threads);
+      std::vector<std::jthread> helpers;
+      for (int t = 1; t < parts; ++t)
+        helpers.emplace_back(run, t, count * t / parts, count * (t + 1) / parts);
+      run(0, 0, count / parts);
+    }
+    for (int k = 0; k < count; ++k) {
+      const Profile* out = model ? &measured[k] : &main[k];
+      const Profile* reference = nullptr;
+      if (plan.with_reference)
+        reference = ref_source ? (model ? &measured_ref[k] : &ref[k]) : out;
       writer.write(*out, reference);
       stats.add(*out, main[k], ref_source ? &ref[k] : nullptr);
     }
     progress.update(first + count);
   }
+  ScanState state, state_ref;
+  state.seed = state_ref.seed = plan.seed;
+  for (const ScanState& s : states) add_counts(state, s);
+  for (const ScanState& s : states_ref) add_counts(state_ref, s);
   writer.finish();
   progress.done(n);
 

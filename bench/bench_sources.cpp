@@ -1,59 +1,101 @@
 // Profiles per second of the raster emulator and the Embree reference on the
 // same built-in cells and the same rays, N = 512. items_per_second = profiles.
+//
+// BM_Raster / BM_Reference: the full pipeline as an exporter runs it: batches
+// of kBatch poses along the cell's path through the source (scan_batch: the
+// raster draws a whole pass at once, the reference shoots 16-ray packets),
+// the camera-shadow test, then the error model on every profile. With
+// ->Threads(k) every benchmark thread owns one source (its own OSMesa context
+// or Embree scene, scanning on that thread only) and its own ScanState.
+// BM_RasterSingle / BM_ReferenceSingle: one scan() per profile, no error model
+// (what the viewer's sensor thread does at a sensor's rate).
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "render/raster_source.h"
 #include "sensor/cell.h"
+#include "sensor/error_model.h"
 #include "sensor/reference_source.h"
 
 namespace {
 
-// With ->Threads(k) every thread builds its own source (its own OSMesa
-// context or Embree scene), as a multi-threaded exporter would.
-template <class Make>
-void run(benchmark::State& state, const std::string& cell_name, Make make) {
-  auto cell = vts::builtin_cell(cell_name);
+constexpr int kBatch = 256;
+
+std::unique_ptr<vts::ProfileSource> make_source(bool raster, const vts::Cell& cell) {
+  if (raster) return vts::make_raster_source(cell.scanner, cell.mesh(), {.threads = 1});
+  return vts::make_reference_source(cell.scanner, cell.mesh(), 1);
+}
+
+vts::Cell bench_cell(const std::string& name) {
+  auto cell = vts::builtin_cell(name);
+  if (!cell) throw std::runtime_error("vts-bench: no built-in cell " + name);
   cell->scanner.points = 512;
-  auto source = make(cell->scanner, cell->mesh());
+  if (std::getenv("VTS_BENCH_IDEAL")) cell->scanner.ideal = true;
+  return *cell;
+}
+
+void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_name) {
+  const vts::Cell cell = bench_cell(cell_name);
+  const auto source = make_source(raster, cell);
+  std::vector<vts::Pose> poses(kBatch);
+  std::vector<vts::Profile> ideal(kBatch);
+  vts::Profile measured;
+  vts::ScanState scan_state;
+  scan_state.seed = 7;
+  std::int64_t i = 1000 * state.thread_index();
+  for (auto _ : state) {
+    for (int k = 0; k < kBatch; ++k) poses[k] = cell.path.pose_at((i + k) % 400);
+    source->scan_batch(poses, ideal);
+    for (int k = 0; k < kBatch; ++k) {
+      ideal[k].index = i + k;
+      vts::apply_error_model(cell.scanner, ideal[k], scan_state, measured);
+      benchmark::DoNotOptimize(measured.z_mm.data());
+    }
+    i += kBatch;
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["triangles"] = benchmark::Counter(static_cast<double>(cell.mesh().triangle_count()),
+                                                   benchmark::Counter::kAvgThreads);
+}
+
+void BM_Single(benchmark::State& state, bool raster, const std::string& cell_name) {
+  const vts::Cell cell = bench_cell(cell_name);
+  const auto source = make_source(raster, cell);
   vts::Profile profile;
   std::int64_t i = 37 * state.thread_index();
   for (auto _ : state) {
-    source->scan(cell->path.pose_at(i % 200), profile);
+    source->scan(cell.path.pose_at(i % 400), profile);
     benchmark::DoNotOptimize(profile.range_mm.data());
     ++i;
   }
   state.SetItemsProcessed(state.iterations());
-  state.counters["triangles"] = benchmark::Counter(static_cast<double>(cell->mesh().triangle_count()),
-                                                   benchmark::Counter::kAvgThreads);
-}
-
-void BM_Raster(benchmark::State& state, const std::string& cell) {
-  run(state, cell, [](const auto& d, const auto& m) { return vts::make_raster_source(d, m); });
-}
-void BM_Reference(benchmark::State& state, const std::string& cell) {
-  run(state, cell, [](const auto& d, const auto& m) { return vts::make_reference_source(d, m); });
 }
 
 const int registered = [] {
   for (const char* cell : {"fillet", "corner", "lap", "butt", "vgroove", "static-B"}) {
     for (int threads : {1, 2}) {
-      benchmark::RegisterBenchmark((std::string("BM_Raster/") + cell).c_str(), BM_Raster, cell)
-          ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
-      benchmark::RegisterBenchmark((std::string("BM_Reference/") + cell).c_str(), BM_Reference, cell)
-          ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
+      for (bool raster : {true, false}) {
+        const std::string name = std::string(raster ? "BM_Raster/" : "BM_Reference/") + cell;
+        benchmark::RegisterBenchmark(name.c_str(), BM_Pipeline, raster, std::string(cell))
+            ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
+      }
     }
   }
+  for (bool raster : {true, false})
+    benchmark::RegisterBenchmark(raster ? "BM_RasterSingle/static-B" : "BM_ReferenceSingle/static-B",
+                                 BM_Single, raster, std::string("static-B"))
+        ->Unit(benchmark::kMicrosecond)->UseRealTime();
   return 0;
 }();
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  ::setenv("LP_NUM_THREADS", "0", 0);  // as vts does: fastest for one-row targets
+  ::setenv("LP_NUM_THREADS", "0", 0);  // as vts does: fastest for our targets
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -2,20 +2,32 @@
 
 #include <GL/gl.h>
 #include <GL/glext.h>
+#include <GL/osmesa.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <condition_variable>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
+#include <cstdlib>
+#include <exception>
+#include <functional>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "render/gl_context.h"
 #include "sensor/error_model.h"
+#include "sensor/mesh_bvh.h"
 #include "sensor/rays.h"
 #include "shaders/embedded.h"
 
@@ -26,19 +38,31 @@ namespace {
 // usable min_range_mm, so it only matters for occluders touching the laser.
 constexpr double kNearClipMm = 1e-3;
 
-// Colour clear value: no fragment reached this column.
-constexpr float kClearRange = 0.0f;
+// Culling keeps triangles within this of the laser plane (and of the fan's
+// box): far above float rounding of mesh-centred coordinates, far below a
+// triangle; a few extra triangles cost nothing, a missing one a hole.
+constexpr double kCullMarginMm = 0.01;
 
-// Camera shadow map: texels along the epipolar direction (one row per column).
-// Candidates are tested exactly, so this only sets how thin a face seen
-// edge-on from the camera may be before the rasterizer misses it.
-constexpr int kShadowTexels = 32;
-// The shadow pass draws only the slab between the laser plane and the
-// camera's plane parallel to it, widened by this on each side.
-constexpr double kShadowSlabMarginMm = 1.0;
-// Smallest half-width of the shadow map's window (tangent units), so a profile
-// whose points all project to one direction still gets a well-conditioned view.
-constexpr double kMinShadowHalfWidth = 1e-3;
+// Profiles drawn in one pass (one draw), per worker.
+constexpr int kMaxRowsPerPass = 256;
+// Worker threads (each with its own OpenGL context) per source.
+constexpr int kMaxThreads = 16;
+// Below this many profiles per worker a batch is not split further.
+constexpr std::size_t kMinProfilesPerThread = 32;
+
+// Collinear runs of slice segments are joined when every end point lies
+// within this of the run's line.
+constexpr double kCollinearMm = 1e-4;
+
+// The camera-shadow test takes the lit columns in groups: one spatial query
+// per group, then every candidate against every column of it. Larger groups
+// mean fewer queries but more candidates per column: on meshes of a few
+// hundred triangles 128 columns per group was fastest, on a 1M-triangle one
+// 32 (docs/PERFORMANCE.md).
+constexpr int kMaxShadowGroup = 128;
+constexpr int kShadowGroupSmallMesh = 128;
+constexpr int kShadowGroupLargeMesh = 32;
+constexpr std::size_t kLargeMeshTriangles = 50'000;
 
 std::string shader_log(GLuint shader) {
   GLint length = 0;
@@ -100,14 +124,6 @@ GLuint link_program(const char* vert_source, const char* vert_name, const char* 
   return program;
 }
 
-GLint uniform(GLuint program, const char* name) {
-  const GLint location = glGetUniformLocation(program, name);
-  if (location < 0)
-    throw std::runtime_error(std::string("raster source: uniform ") + name +
-                             " not found in the shaders");
-  return location;
-}
-
 void check_gl(const char* what) {
   const GLenum error = glGetError();
   if (error == GL_NO_ERROR) return;
@@ -124,7 +140,27 @@ struct PreparedMesh {
   std::vector<float> positions;          // xyz per vertex, centred world mm
   std::vector<std::uint32_t> indices;    // 3 per kept triangle
   std::vector<double> planes;            // (nx, ny, nz, w) per kept triangle
+  // Every edge of the kept triangles is used once in each direction: the
+  // mesh bounds solids with consistent winding, so a triangle that faces away
+  // from the laser is always behind one that faces it (from outside).
+  bool closed = false;
 };
+
+bool closed_and_oriented(const std::vector<std::uint32_t>& indices) {
+  if (indices.empty()) return false;
+  std::vector<std::uint64_t> edges;
+  edges.reserve(indices.size());
+  for (std::size_t t = 0; t < indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      edges.push_back(std::uint64_t(indices[t + k]) << 32 | indices[t + (k + 1) % 3]);
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    if (i + 1 < edges.size() && edges[i + 1] == edges[i]) return false;  // used twice one way
+    const std::uint64_t reverse = edges[i] << 32 | edges[i] >> 32;
+    if (!std::binary_search(edges.begin(), edges.end(), reverse)) return false;  // open edge
+  }
+  return true;
+}
 
 PreparedMesh prepare(const Mesh& mesh) {
   PreparedMesh out;
@@ -168,331 +204,692 @@ PreparedMesh prepare(const Mesh& mesh) {
     out.indices.insert(out.indices.end(), tri.begin(), tri.end());
     out.planes.insert(out.planes.end(), {n.x(), n.y(), n.z(), w});
   }
+  out.closed = closed_and_oriented(out.indices);
   return out;
 }
 
-class RasterSource final : public ProfileSource {
+// What every worker reads, built once per source and never changed after.
+struct SharedScene {
+  ScannerDesc desc;
+  std::vector<Eigen::Vector3f> directions;  // sensor frame, unit, per column
+  std::vector<Eigen::Vector3d> directions_d;
+  PreparedMesh mesh;
+  MeshBvh bvh;                              // over mesh's kept triangles
+  double tan_half_fan = 0.0;
+  Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
+};
+
+// One vertex of the per-pass stream: a triangle corner, and the row (profile
+// of the pass) and mesh triangle it is drawn for.
+struct StreamVertex {
+  float x, y, z;
+  std::uint32_t row, triangle;
+};
+static_assert(sizeof(StreamVertex) == 20);
+
+// The camera-shadow test of one profile, on the CPU: the spatial index finds
+// the triangles near the sight lines from the camera centre to a group of lit
+// points, and each candidate is intersected exactly with each sight line.
+// Works in the sensor frame; no allocation once the scratch has grown.
+class ShadowTester {
  public:
-  RasterSource(const ScannerDesc& desc, const Mesh& mesh_world)
-      : desc_(desc), directions_(column_directions(desc)) {
-    const int n = desc_.points;
-    readback_.resize(2 * static_cast<std::size_t>(n));
-    lit_.resize(2 * static_cast<std::size_t>(n));
-    shadowed_.resize(static_cast<std::size_t>(n));
+  explicit ShadowTester(const SharedScene& scene)
+      : s_(scene),
+        group_(scene.bvh.triangle_count() >= kLargeMeshTriangles ? kShadowGroupLargeMesh
+                                                                 : kShadowGroupSmallMesh) {
+    const Eigen::Vector3d c = s_.camera_mm;
+    xa_ = c.normalized();
+    za_ = xa_.cross(Eigen::Vector3d::UnitY());
+  }
 
-    // Column i is the centre of pixel i of an n-wide image whose horizontal
-    // half-angle is fan/2 (sensor/rays.h). The row's half-height is chosen to
-    // make pixels square, so edges snap equally finely across and along the
-    // laser plane.
-    tan_half_fan_ = std::tan(0.5 * desc_.fan_deg * std::numbers::pi / 180.0);
-    tan_half_row_ = tan_half_fan_ / n;
-    camera_mm_ = camera_model(desc_).centre_mm;
+  // Clears out.camera_visible where a triangle hides the lit point from the
+  // camera farther than kShadowEpsilonMm from the point.
+  void apply(const Eigen::Matrix3d& r, const Eigen::Vector3d& origin_c, Profile& out) {
+    const int n = s_.desc.points;
+    const Eigen::Vector3d c = s_.camera_mm;
+    const Eigen::Vector3d camera_c = r * c + origin_c;  // mesh-centred world
+    for (int g0 = 0; g0 < n; g0 += group_) {
+      const int g1 = std::min(n, g0 + group_);
+      // Sight lines D = P - C of the group's lit points, and their extent as
+      // seen from the camera: x'/z' (the same all along a sight line) and z'.
+      int m = 0;
+      double q_lo = std::numeric_limits<double>::infinity(), q_hi = -q_lo, zc_max = 0.0;
+      for (int i = g0; i < g1; ++i) {
+        if (!out.valid[i]) continue;
+        const Eigen::Vector3d d = double(out.range_mm[i]) * s_.directions_d[i] - c;
+        const double zc = d.dot(za_);
+        if (!(zc > 0.0)) continue;  // not in front of the camera: no sight line to test
+        const double q = d.dot(xa_) / zc;
+        q_lo = std::min(q_lo, q);
+        q_hi = std::max(q_hi, q);
+        zc_max = std::max(zc_max, zc);
+        column_[m] = i;
+        // The candidates are tested in the mesh-centred world frame, where
+        // the hierarchy keeps their corners: no transform per candidate.
+        const Eigen::Vector3d dw = r * d;
+        dx_[m] = static_cast<float>(dw.x());
+        dy_[m] = static_cast<float>(dw.y());
+        dz_[m] = static_cast<float>(dw.z());
+        d_[m] = dw;
+        // Occluders must cross the sight line before 1 - eps/|D| of the way.
+        tmax_[m] = static_cast<float>(1.0 - kShadowEpsilonMm / d.norm());
+        hidden_[m] = 0;
+        ++m;
+      }
+      if (m == 0) continue;
+      for (int j = m; j < group_; ++j) {
+        dx_[j] = dy_[j] = dz_[j] = 0.0f;
+        tmax_[j] = -1.0f;
+        hidden_[j] = 0;
+      }
 
-    const PreparedMesh mesh = prepare(mesh_world);
-    centre_mm_ = mesh.centre_mm;
-    index_count_ = static_cast<GLsizei>(mesh.indices.size());
+      // The region holding every sight line of the group (sensor frame,
+      // kept where n.p + w >= 0): between the epipolar planes of the group's
+      // first and last columns (planes through the camera centre and the
+      // laser origin), between the camera's directions to the extreme points
+      // (x'/z' = q), in front of the camera and no deeper than the deepest
+      // point. Each plane is moved kCullMarginMm outwards.
+      int np = 0;
+      auto add = [&](const Eigen::Vector3d& normal, double w) {
+        const double len = normal.norm();
+        if (!(len > 0.0)) return;
+        planes_s_[np++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), w + kCullMarginMm * len);
+      };
+      const Eigen::Vector3d& d0 = s_.directions_d[g0];
+      const Eigen::Vector3d& d1 = s_.directions_d[g1 - 1];
+      Eigen::Vector3d e0 = c.cross(d0), e1 = c.cross(d1);
+      if (e0.dot(d1) < 0.0) e0 = -e0;
+      if (e1.dot(d0) < 0.0) e1 = -e1;
+      add(e0, 0.0);  // both planes pass through the laser origin
+      add(e1, 0.0);
+      const Eigen::Vector3d lo_n = xa_ - q_lo * za_, hi_n = q_hi * za_ - xa_;
+      add(lo_n, -lo_n.dot(c));
+      add(hi_n, -hi_n.dot(c));
+      add(za_, -za_.dot(c));
+      add(-za_, za_.dot(c) + zc_max);
+      // Into the mesh-centred world frame: p_s = R^T (p_c - o_c).
+      for (int k = 0; k < np; ++k) {
+        const Eigen::Vector3d nw = r * planes_s_[k].head<3>();
+        planes_w_[k] = Eigen::Vector4d(nw.x(), nw.y(), nw.z(), planes_s_[k][3] - nw.dot(origin_c));
+      }
+      candidates_.clear();
+      s_.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
+
+      // Moeller-Trumbore with the common origin C: per triangle the vectors
+      // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
+      // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
+      // First in float over the whole group, branch-free so the compiler
+      // vectorizes it, with a little slack so it misses nothing; then every
+      // candidate hit again in double. Float alone is not enough: a face the
+      // camera sees almost edge-on puts the crossing with the point's own
+      // face a few hundredths of a millimetre off the point.
+      for (std::uint32_t e : candidates_) {
+        const std::uint32_t t = s_.bvh.triangle(e);
+        if (s_.mesh.closed) {
+          // A sight line into a closed solid enters it through a face turned
+          // towards the camera; the others need no test.
+          const double* plane = &s_.mesh.planes[4 * std::size_t(t)];
+          if (plane[0] * camera_c.x() + plane[1] * camera_c.y() + plane[2] * camera_c.z() <= plane[3])
+            continue;
+        }
+        const std::array<float, 9>& k = s_.bvh.corners(e);
+        const Eigen::Vector3d a(k[0], k[1], k[2]), b(k[3], k[4], k[5]), cc(k[6], k[7], k[8]);
+        const Eigen::Vector3d e1v = b - a, e2v = cc - a, tv = camera_c - a;
+        const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
+        const double tq = e2v.dot(qv);
+        const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
+        const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
+        const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
+        // Slack on the barycentric tests, and on t (a point's own face has
+        // t = 1, which must stay out: 1 > tmax + kSlackT while |D| < 1 m).
+        constexpr float kSlack = 1e-3f, kSlackT = 1e-5f;
+        int any = 0;
+        for (int j = 0; j < group_; ++j) {
+          const float det = dx_[j] * ax + dy_[j] * ay + dz_[j] * az;
+          const float sign = det < 0.0f ? -1.0f : 1.0f;
+          const float adet = det * sign;
+          const float slack = kSlack * adet;
+          const float un = (dx_[j] * bx + dy_[j] * by + dz_[j] * bz) * sign;
+          const float vn = (dx_[j] * qx + dy_[j] * qy + dz_[j] * qz) * sign;
+          const float tn = tqf * sign;
+          const int maybe = int(adet > 0.0f) & int(un >= -slack) & int(vn >= -slack) &
+                            int(un + vn <= adet + slack) & int(tn > -slack) &
+                            int(tn < adet * (tmax_[j] + kSlackT));
+          maybe_[j] = maybe;
+          any |= maybe;
+        }
+        if (!any) continue;
+        for (int j = 0; j < m; ++j) {
+          if (!maybe_[j] || hidden_[j]) continue;
+          const Eigen::Vector3d& d = d_[j];
+          double det = d.dot(av), un = d.dot(bv), vn = d.dot(qv), tn = tq;
+          if (det < 0.0) {
+            det = -det;
+            un = -un;
+            vn = -vn;
+            tn = -tn;
+          }
+          hidden_[j] = det > 0.0 && un >= 0.0 && vn >= 0.0 && un + vn <= det && tn > 0.0 &&
+                       tn < det * (1.0 - kShadowEpsilonMm / d.norm());
+        }
+      }
+      for (int j = 0; j < m; ++j)
+        if (hidden_[j]) out.camera_visible[column_[j]] = 0;
+    }
+  }
+
+ private:
+  const SharedScene& s_;
+  int group_;                // columns per group
+  Eigen::Vector3d xa_, za_;  // camera x' (along the baseline) and z', sensor frame
+  std::array<int, kMaxShadowGroup> column_{};
+  std::array<float, kMaxShadowGroup> dx_{}, dy_{}, dz_{}, tmax_{};
+  std::array<int, kMaxShadowGroup> hidden_{}, maybe_{};
+  std::array<Eigen::Vector3d, kMaxShadowGroup> d_{};  // sight lines, world frame, double
+  std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
+  std::vector<std::uint32_t> candidates_;
+};
+
+// One OpenGL context with its pipeline and scratch, used by one thread at a
+// time. A pass scans up to rows() profiles with one draw.
+class Worker {
+ public:
+  Worker(const SharedScene& scene, int max_rows) : s_(scene), shadow_(scene) {
+    const int n = s_.desc.points;
+    GLint max_rb = 0, max_vp[2] = {0, 0};
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
+    if (n > std::min(max_rb, max_vp[0]))
+      throw std::runtime_error("raster source: " + std::to_string(n) +
+                               " points exceed this OpenGL's largest target (" +
+                               std::to_string(std::min(max_rb, max_vp[0])) + ")");
+    rows_ = std::clamp(max_rows, 1, std::min(max_rb, max_vp[1]));
+    const std::size_t slots = static_cast<std::size_t>(rows_) * n;
+    readback_.resize(slots);
 
     program_ = link_program(shaders::raster_vert, "raster.vert", shaders::raster_frag, "raster.frag");
     glUseProgram(program_);
-    u_clip_from_mesh_ = uniform(program_, "u_clip_from_mesh");
-    glUniform1f(uniform(program_, "u_max_hit_mm"), static_cast<float>(desc_.max_hit_mm));
-    // Depth clears to 1; ranges up to max_hit map into [0, 0.5].
-    glUniform1f(uniform(program_, "u_depth_per_mm"), static_cast<float>(0.5 / desc_.max_hit_mm));
 
-    shadow_program_ =
-        link_program(shaders::shadow_vert, "shadow.vert", shaders::shadow_frag, "shadow.frag");
-    glUseProgram(shadow_program_);
-    u_shadow_clip_from_mesh_ = uniform(shadow_program_, "u_clip_from_mesh");
-    u_shadow_slab_ = uniform(shadow_program_, "u_slab");
-
+    // The per-pass vertex stream: position, then (row, triangle) as integers.
     glGenVertexArrays(1, &vao_);
     glBindVertexArray(vao_);
-    // An empty buffer cannot be bound as storage; a mesh with no triangles never draws.
-    const std::vector<float> no_positions(3, 0.0f);
-    const std::vector<std::uint32_t> no_indices(3, 0u);
-    const auto& positions = mesh.positions.empty() ? no_positions : mesh.positions;
-    const auto& indices = mesh.indices.empty() ? no_indices : mesh.indices;
-    glGenBuffers(1, &vbo_);
-    glBindBuffer(GL_ARRAY_BUFFER, vbo_);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(positions.size() * sizeof(float)),
-                 positions.data(), GL_STATIC_DRAW);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+    glGenBuffers(1, &stream_vbo_);
+    glBindBuffer(GL_ARRAY_BUFFER, stream_vbo_);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(StreamVertex), nullptr);
     glEnableVertexAttribArray(0);
-    glGenBuffers(1, &ebo_);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
-                 GL_STATIC_DRAW);
-    // The shadow pass reads the triangles' corners from the same buffers.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, vbo_);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, ebo_);
+    glVertexAttribIPointer(1, 2, GL_UNSIGNED_INT, sizeof(StreamVertex),
+                           reinterpret_cast<const void*>(offsetof(StreamVertex, row)));
+    glEnableVertexAttribArray(1);
 
-    std::vector<float> dirs4(4 * static_cast<std::size_t>(n), 0.0f);
-    for (int i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) dirs4[4 * i + k] = directions_[i][k];
-    glGenBuffers(1, &directions_ssbo_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, directions_ssbo_);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(dirs4.size() * sizeof(float)),
-                 dirs4.data(), GL_STATIC_DRAW);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, directions_ssbo_);
-    const std::vector<double> no_planes(4, 0.0);
-    const auto& planes = mesh.planes.empty() ? no_planes : mesh.planes;
-    glGenBuffers(1, &planes_ssbo_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, planes_ssbo_);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(planes.size() * sizeof(double)),
-                 planes.data(), GL_STATIC_DRAW);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, planes_ssbo_);
-    glGenBuffers(1, &lit_ssbo_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, lit_ssbo_);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(lit_.size() * sizeof(float)),
-                 nullptr, GL_DYNAMIC_DRAW);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, lit_ssbo_);
-    glGenBuffers(1, &shadowed_ssbo_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, shadowed_ssbo_);
-    glBufferData(GL_SHADER_STORAGE_BUFFER,
-                 static_cast<GLsizeiptr>(shadowed_.size() * sizeof(std::uint32_t)), nullptr,
-                 GL_DYNAMIC_READ);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, shadowed_ssbo_);
-
-    // std140 Camera block: dvec3 camera centre, then the shadow epsilon (both double).
-    glGenBuffers(1, &camera_ubo_);
-    glBindBuffer(GL_UNIFORM_BUFFER, camera_ubo_);
-    glBufferData(GL_UNIFORM_BUFFER, sizeof camera_block_, nullptr, GL_DYNAMIC_DRAW);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 1, camera_ubo_);
-
-    glGenBuffers(1, &pose_ubo_);
-    glBindBuffer(GL_UNIFORM_BUFFER, pose_ubo_);
-    glBufferData(GL_UNIFORM_BUFFER, sizeof pose_block_, nullptr, GL_DYNAMIC_DRAW);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, pose_ubo_);
-
-    // Laser pass target: range and |cos incidence| per column.
+    // Target: one row per profile, the winning triangle's number + 1 per
+    // column, and reversed float depth (near / z: the same relative precision
+    // at every range).
     glGenRenderbuffers(1, &colour_rb_);
     glBindRenderbuffer(GL_RENDERBUFFER, colour_rb_);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RG32F, n, 1);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32UI, n, rows_);
     glGenRenderbuffers(1, &depth_rb_);
     glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, n, 1);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, n, rows_);
     glGenFramebuffers(1, &fbo_);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_rb_);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_rb_);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-      throw std::runtime_error("raster source: RG32F + DEPTH32F framebuffer of " +
-                               std::to_string(n) + "x1 is incomplete (status " +
-                               std::to_string(status) + ")");
+      throw std::runtime_error("raster source: R32UI + DEPTH32F framebuffer of " +
+                               std::to_string(n) + "x" + std::to_string(rows_) +
+                               " is incomplete (status " + std::to_string(status) + ")");
     glDrawBuffer(GL_COLOR_ATTACHMENT0);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
 
-    // Shadow pass target: no attachments, kShadowTexels x n; the fragment
-    // shader writes its verdicts into shadowed_ssbo_.
-    glGenFramebuffers(1, &shadow_fbo_);
-    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-    glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_WIDTH, kShadowTexels);
-    glFramebufferParameteri(GL_FRAMEBUFFER, GL_FRAMEBUFFER_DEFAULT_HEIGHT, n);
-    status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-      throw std::runtime_error("raster source: attachment-less shadow framebuffer of " +
-                               std::to_string(kShadowTexels) + "x" + std::to_string(n) +
-                               " is incomplete (status " + std::to_string(status) + ")");
-
-    glDepthFunc(GL_LESS);
+    // Not exported by libOSMesa (GL 4.5 core): fetched from the driver.
+    const auto clip_control =
+        reinterpret_cast<PFNGLCLIPCONTROLPROC>(OSMesaGetProcAddress("glClipControl"));
+    if (!clip_control)
+      throw std::runtime_error("raster source: this OpenGL has no glClipControl (GL 4.5)");
+    clip_control(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glDisable(GL_DITHER);
     check_gl("creating the raster pipeline");
-    // The context is private to this source, so all this state stays bound.
+    // The context is private to this worker, so all this state stays bound.
   }
 
   // GL objects go with the context (GlContext's destructor).
-  ~RasterSource() override = default;
+  ~Worker() = default;
 
-  void scan(const Pose& world_from_sensor, Profile& out) override {
+  // Scans poses[i] into out[i], rows_ profiles per pass.
+  void scan(std::span<const Pose> poses, std::span<Profile> out) {
     context_.make_current();
-    const int n = desc_.points;
-
-    // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
-    const Eigen::Matrix3d r = world_from_sensor.linear();
-    const Eigen::Vector3d origin_c = world_from_sensor.translation() - centre_mm_;
-    Eigen::Matrix4d sensor_from_mesh = Eigen::Matrix4d::Identity();
-    sensor_from_mesh.topLeftCorner<3, 3>() = r.transpose();
-    sensor_from_mesh.topRightCorner<3, 1>() = -(r.transpose() * origin_c);
-
-    // Sensor -> clip. GL's w is the sensor z (optical axis) directly, so the
-    // view looks down +z and no axis flip is needed: NDC x = (y/z) / tan(fan/2)
-    // puts column 0 at the most negative y; NDC y = (x/z) / tan_half_row puts
-    // the row's pixel centre on the laser plane x = 0. clip z = z - 2 near
-    // clips only at z = near (no far plane); depth comes from the fragment
-    // shader.
-    Eigen::Matrix4d clip_from_sensor = Eigen::Matrix4d::Zero();
-    clip_from_sensor(0, 1) = 1.0 / tan_half_fan_;
-    clip_from_sensor(1, 0) = 1.0 / tan_half_row_;
-    clip_from_sensor(2, 2) = 1.0;
-    clip_from_sensor(2, 3) = -2.0 * kNearClipMm;
-    clip_from_sensor(3, 2) = 1.0;
-
-    glUseProgram(program_);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glViewport(0, 0, n, 1);
-    glEnable(GL_DEPTH_TEST);
-    const Eigen::Matrix4f clip_from_mesh = (clip_from_sensor * sensor_from_mesh).cast<float>();
-    glUniformMatrix4fv(u_clip_from_mesh_, 1, GL_FALSE, clip_from_mesh.data());
-    // std140: each dmat3 column and the dvec3 take a 32-byte slot.
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 3; ++k) pose_block_[4 * c + k] = r(k, c);
-    for (int k = 0; k < 3; ++k) pose_block_[12 + k] = origin_c[k];
-    glBindBuffer(GL_UNIFORM_BUFFER, pose_ubo_);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof pose_block_, pose_block_);
-
-    const GLfloat clear_range[4] = {kClearRange, 0.0f, 0.0f, 0.0f};
-    const GLfloat clear_depth = 1.0f;
-    glClearBufferfv(GL_COLOR, 0, clear_range);
-    glClearBufferfv(GL_DEPTH, 0, &clear_depth);
-    if (index_count_ > 0) glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
-    glReadPixels(0, 0, n, 1, GL_RG, GL_FLOAT, readback_.data());
-
-    if (!out.sized(n)) out.resize(n);
-    out.world_from_sensor = world_from_sensor;
-    for (int i = 0; i < n; ++i) {
-      const float range = readback_[2 * i];
-      set_column(desc_, directions_[i], i, range > 0.0f ? range : kNoHit, out,
-                 readback_[2 * i + 1]);
+    for (std::size_t first = 0; first < poses.size(); first += static_cast<std::size_t>(rows_)) {
+      const std::size_t count = std::min<std::size_t>(rows_, poses.size() - first);
+      pass(poses.subspan(first, count), out.subspan(first, count));
     }
-    if (!desc_.ideal && index_count_ > 0) camera_shadow(sensor_from_mesh, r, origin_c, out);
   }
 
-  const ScannerDesc& scanner() const override { return desc_; }
+ private:
+  // One cut of a triangle with a laser plane: end points (y, z) in the
+  // sensor frame, and the triangle.
+  struct Segment {
+    Eigen::Vector2d p0, p1;
+    std::uint32_t triangle;
+  };
+
+  // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
+  // sensor frame and, if the cut is a segment, appends it to segments_. Edge
+  // crossings are computed from the edge's lexicographically smaller corner,
+  // so the two triangles on an edge produce bit-identical end points and the
+  // slice stays watertight.
+  void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
+    const std::uint32_t t = s_.bvh.triangle(e);
+    if (s_.mesh.closed) {
+      // A face turned away from the laser is hidden behind the solid's front.
+      const double* plane = &s_.mesh.planes[4 * std::size_t(t)];
+      if (plane[0] * origin_c.x() + plane[1] * origin_c.y() + plane[2] * origin_c.z() <= plane[3])
+        return;
+    }
+    const std::array<float, 9>& c = s_.bvh.corners(e);
+    Eigen::Vector3d v[3];
+    for (int k = 0; k < 3; ++k)
+      v[k] = rt * (Eigen::Vector3d(c[3 * k], c[3 * k + 1], c[3 * k + 2]) - origin_c);
+    auto smaller = [&](int a, int b) {
+      return std::lexicographical_compare(&c[3 * a], &c[3 * a + 3], &c[3 * b], &c[3 * b + 3]);
+    };
+    // End points: corners on the plane, and crossings of edges whose ends lie
+    // strictly on opposite sides.
+    Eigen::Vector2d ends[3];
+    int count = 0;
+    for (int k = 0; k < 3; ++k)
+      if (v[k].x() == 0.0) ends[count++] = v[k].tail<2>();
+    if (count == 3) return;  // lies in the plane: seen edge-on, covers no column
+    for (int k = 0; k < 3 && count < 2; ++k) {
+      int a = k, b = (k + 1) % 3;
+      if (!((v[a].x() < 0.0 && v[b].x() > 0.0) || (v[a].x() > 0.0 && v[b].x() < 0.0))) continue;
+      if (smaller(b, a)) std::swap(a, b);
+      const double s = v[a].x() / (v[a].x() - v[b].x());
+      ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
+    }
+    if (count < 2 || ends[0] == ends[1]) return;
+    segments_.push_back({ends[0], ends[1], t});
+  }
+
+  // Joins runs of connected, collinear segments of one profile (a flat face
+  // meshed finely cuts into many) into single segments: fewer triangles to
+  // draw, the same coverage and, because a column's range is its ray's
+  // intersection with the kept triangle's plane, which on a collinear run is
+  // the run's line, the same ranges within kCollinearMm. Segments meet where
+  // they share a bit-identical end point; a point shared by more than two is
+  // not joined through.
+  void join_collinear() {
+    const std::size_t m = segments_.size();
+    if (m < 2) return;
+    std::size_t cap = 16;
+    while (cap < 4 * m) cap *= 2;
+    if (slots_.size() < cap) slots_.assign(cap, {});
+    ++stamp_;
+    link_.assign(2 * m, kNone);
+    auto hash = [](const Eigen::Vector2d& p) {
+      std::uint64_t a, b;
+      std::memcpy(&a, &p.x(), 8);
+      std::memcpy(&b, &p.y(), 8);
+      std::uint64_t h = a * 0x9e3779b97f4a7c15ULL ^ (b + 0x632be59bd9b4e019ULL + (a << 6) + (a >> 2));
+      return h ^ (h >> 29);
+    };
+    auto point = [&](std::uint32_t end) -> const Eigen::Vector2d& {
+      return end & 1 ? segments_[end >> 1].p1 : segments_[end >> 1].p0;
+    };
+    for (std::uint32_t end = 0; end < 2 * m; ++end) {
+      const Eigen::Vector2d& p = point(end);
+      for (std::size_t h = hash(p) & (cap - 1);; h = (h + 1) & (cap - 1)) {
+        Slot& slot = slots_[h];
+        if (slot.stamp != stamp_) {
+          slot = {stamp_, end, 1};
+          break;
+        }
+        if (point(slot.first) != p) continue;
+        if (++slot.count == 2) {
+          link_[end] = slot.first;
+          link_[slot.first] = end;
+        } else {  // three or more meet here: no joining through this point
+          link_[end] = kNone;
+          link_[slot.first] = kNone;
+          for (std::uint32_t e = 0; e < end; ++e)
+            if (link_[e] != kNone && point(e) == p) link_[e] = kNone;
+        }
+        break;
+      }
+    }
+    // Walk each chain from one of its ends; join while collinear.
+    used_.assign(m, 0);
+    joined_.clear();
+    auto collinear = [](const Eigen::Vector2d& a, const Eigen::Vector2d& dir, double len,
+                        const Eigen::Vector2d& q) {
+      const Eigen::Vector2d d = q - a;
+      return std::abs(dir.x() * d.y() - dir.y() * d.x()) <= kCollinearMm * len;
+    };
+    for (std::size_t start = 0; start < m; ++start) {
+      if (used_[start]) continue;
+      // Go back to the start of the collinear run containing `start`.
+      std::uint32_t seg = static_cast<std::uint32_t>(start), out_end = 1;  // leave by p1
+      {
+        const Eigen::Vector2d a = segments_[seg].p0, dir = segments_[seg].p1 - a;
+        const double len = dir.norm();
+        std::uint32_t back = 2 * seg;  // the end we arrived through (p0)
+        double reach_back = 0.0;       // how far back along dir the run reaches
+        std::size_t guard = 0;
+        while (link_[back] != kNone && guard++ < m) {
+          const std::uint32_t other = link_[back];
+          const std::uint32_t s2 = other >> 1;
+          if (used_[s2] || s2 == start) break;
+          const Eigen::Vector2d& far = (other & 1) ? segments_[s2].p0 : segments_[s2].p1;
+          // Collinear and further back (two faces cut along a shared edge
+          // lying in the plane give the same segment twice: not a run).
+          const double along = (far - a).dot(dir);
+          if (!collinear(a, dir, len, far) || !(along < reach_back)) break;
+          reach_back = along;
+          seg = s2;
+          back = other ^ 1;  // its far end
+        }
+        out_end = back & 1 ? 0 : 1;
+      }
+      // Forward from `seg`, entering by its end (out_end ^ 1).
+      const std::uint32_t first = seg;
+      Eigen::Vector2d p0 = out_end ? segments_[seg].p0 : segments_[seg].p1;
+      Eigen::Vector2d p1 = out_end ? segments_[seg].p1 : segments_[seg].p0;
+      used_[seg] = 1;
+      const Eigen::Vector2d dir = p1 - p0;
+      const double len = dir.norm();
+      std::uint32_t leave = 2 * seg + out_end;
+      double reach = len * len;  // (p1 - p0) . dir
+      for (std::size_t guard = 0; link_[leave] != kNone && guard < m; ++guard) {
+        const std::uint32_t other = link_[leave];
+        const std::uint32_t s2 = other >> 1;
+        if (used_[s2]) break;
+        const Eigen::Vector2d& far = (other & 1) ? segments_[s2].p0 : segments_[s2].p1;
+        const double along = (far - p0).dot(dir);
+        if (!collinear(p0, dir, len, far) || !(along > reach)) break;
+        reach = along;
+        used_[s2] = 1;
+        p1 = far;
+        leave = other ^ 1;
+      }
+      joined_.push_back({p0, p1, segments_[first].triangle});
+    }
+    segments_.swap(joined_);
+  }
+
+  // Appends segment g to the stream as a quad covering exactly row `row` of
+  // `rows`, cut at the near plane.
+  void emit(const Segment& g, std::uint32_t row, int rows) {
+    Eigen::Vector2d p0 = g.p0, p1 = g.p1;
+    if (p0.y() < kNearClipMm && p1.y() < kNearClipMm) return;
+    if (p0.y() < kNearClipMm) p0 = p0 + (kNearClipMm - p0.y()) / (p1.y() - p0.y()) * (p1 - p0);
+    if (p1.y() < kNearClipMm) p1 = p1 + (kNearClipMm - p1.y()) / (p0.y() - p1.y()) * (p0 - p1);
+    const float x0 = static_cast<float>(p0.x() / p0.y() / s_.tan_half_fan);
+    const float x1 = static_cast<float>(p1.x() / p1.y() / s_.tan_half_fan);
+    const float d0 = static_cast<float>(kNearClipMm / p0.y());
+    const float d1 = static_cast<float>(kNearClipMm / p1.y());
+    const float y_lo = static_cast<float>(2.0 * row / rows - 1.0);
+    const float y_hi = static_cast<float>(2.0 * (row + 1) / rows - 1.0);
+    const std::uint32_t t = g.triangle;
+    stream_.push_back({x0, y_lo, d0, row, t});
+    stream_.push_back({x1, y_lo, d1, row, t});
+    stream_.push_back({x1, y_hi, d1, row, t});
+    stream_.push_back({x0, y_lo, d0, row, t});
+    stream_.push_back({x1, y_hi, d1, row, t});
+    stream_.push_back({x0, y_hi, d0, row, t});
+  }
+
+  void pass(std::span<const Pose> poses, std::span<Profile> out) {
+    const int n = s_.desc.points;
+    const int count = static_cast<int>(poses.size());
+    const double reach = s_.desc.max_hit_mm;
+    stream_.clear();
+    for (int k = 0; k < count; ++k) {
+      // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
+      const Eigen::Matrix3d r = poses[k].linear();
+      const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+
+      // Only the triangles that cross this profile's laser plane inside the
+      // fan can cover a column's ray. The fan (radius `reach`) lies inside
+      // the triangle from the origin to (0, +-T reach, reach).
+      const Eigen::Vector3d n_world = r.col(0);
+      const Eigen::Vector3d far = r.col(2) * reach;
+      const Eigen::Vector3d side = r.col(1) * (reach * s_.tan_half_fan);
+      Eigen::Vector3d lo = origin_c.cwiseMin(origin_c + far - side).cwiseMin(origin_c + far + side);
+      Eigen::Vector3d hi = origin_c.cwiseMax(origin_c + far - side).cwiseMax(origin_c + far + side);
+      lo.array() -= kCullMarginMm;
+      hi.array() += kCullMarginMm;
+      culled_.clear();
+      s_.bvh.crossing_plane(n_world, n_world.dot(origin_c), lo, hi, kCullMarginMm, culled_);
+      const Eigen::Matrix3d rt = r.transpose();
+      segments_.clear();
+      for (std::uint32_t e : culled_) slice(e, rt, origin_c);
+      join_collinear();
+      for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
+    }
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glViewport(0, 0, n, count);
+    const GLuint clear_triangle[4] = {0, 0, 0, 0};
+    const GLfloat clear_depth = 0.0f;  // reversed depth: 0 is infinitely far
+    glClearBufferuiv(GL_COLOR, 0, clear_triangle);
+    glClearBufferfv(GL_DEPTH, 0, &clear_depth);
+    if (!stream_.empty()) {
+      glBindBuffer(GL_ARRAY_BUFFER, stream_vbo_);
+      const std::size_t bytes = stream_.size() * sizeof(StreamVertex);
+      if (bytes > stream_capacity_) {
+        stream_capacity_ = std::max(bytes, 2 * stream_capacity_);
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(stream_capacity_), nullptr,
+                     GL_STREAM_DRAW);
+      }
+      glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(bytes), stream_.data());
+      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(stream_.size()));
+    }
+    glReadPixels(0, 0, n, count, GL_RED_INTEGER, GL_UNSIGNED_INT, readback_.data());
+
+    const bool shadows = !s_.desc.ideal && !s_.mesh.indices.empty();
+    for (int k = 0; k < count; ++k) {
+      Profile& p = out[k];
+      if (!p.sized(n)) p.resize(n);
+      p.world_from_sensor = poses[k];
+      const Eigen::Matrix3d r = poses[k].linear();
+      const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+      const std::uint32_t* row = &readback_[std::size_t(k) * n];
+      for (int i = 0; i < n; ++i) {
+        float range = kNoHit, cos_incidence = 0.0f;
+        if (row[i] != 0) {
+          // Exact range along the column's ray to the winning triangle's plane.
+          const double* plane = &s_.mesh.planes[4 * std::size_t(row[i] - 1)];
+          const Eigen::Vector3d normal(plane[0], plane[1], plane[2]);
+          const double along = normal.dot(r * s_.directions_d[i]);
+          const double t = (plane[3] - normal.dot(origin_c)) / along;
+          // Behind the laser, beyond the maximum hit distance, grazing (inf) or NaN.
+          if (t > 0.0 && t <= s_.desc.max_hit_mm) {
+            range = static_cast<float>(t);
+            cos_incidence = static_cast<float>(std::abs(along));
+          }
+        }
+        set_column(s_.desc, s_.directions[i], i, range, p, cos_incidence);
+      }
+      if (shadows) shadow_.apply(r, origin_c, p);
+    }
+  }
+
+  const SharedScene& s_;
+  GlContext context_;  // created before, destroyed after, every GL object below
+  ShadowTester shadow_;
+  int rows_ = 1;       // profiles per pass
+  std::vector<StreamVertex> stream_;       // per pass, grows to its largest size
+  std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
+  std::vector<std::uint32_t> culled_;      // one query's hierarchy entries
+  struct Slot {
+    std::uint32_t stamp = 0, first = 0, count = 0;
+  };
+  static constexpr std::uint32_t kNone = ~0u;
+  std::vector<Segment> segments_, joined_;  // one profile's cuts
+  std::vector<Slot> slots_;                // end point hash table (stamped)
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> link_;        // per segment end: the end it meets, or kNone
+  std::vector<std::uint8_t> used_;
+  std::vector<std::uint32_t> readback_;    // per row, column: triangle + 1, 0 = no hit
+  GLuint program_ = 0;
+  GLuint vao_ = 0, stream_vbo_ = 0;
+  GLuint colour_rb_ = 0, depth_rb_ = 0, fbo_ = 0;
+};
+
+// A thread that runs one job at a time for its owner.
+class JobThread {
+ public:
+  JobThread() : thread_([this] { loop(); }) {}
+  ~JobThread() {
+    {
+      std::lock_guard lock(mutex_);
+      quit_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  JobThread(const JobThread&) = delete;
+  JobThread& operator=(const JobThread&) = delete;
+
+  void submit(std::function<void()> job) {
+    {
+      std::lock_guard lock(mutex_);
+      job_ = std::move(job);
+      done_ = false;
+      error_ = nullptr;
+    }
+    cv_.notify_all();
+  }
+  // Waits for the submitted job; rethrows what it threw.
+  void wait() {
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return done_; });
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+
+ private:
+  void loop() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      cv_.wait(lock, [&] { return quit_ || job_; });
+      if (!job_) return;
+      std::function<void()> job = std::exchange(job_, nullptr);
+      lock.unlock();
+      std::exception_ptr error;
+      try {
+        job();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      lock.lock();
+      error_ = error;
+      done_ = true;
+      cv_.notify_all();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::function<void()> job_;
+  bool done_ = true, quit_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;  // last: starts after the state above exists
+};
+
+class RasterSource final : public ProfileSource {
+ public:
+  RasterSource(const ScannerDesc& desc, const Mesh& mesh_world, const RasterOptions& options)
+      : scene_(std::make_unique<SharedScene>()) {
+    SharedScene& s = *scene_;
+    s.desc = desc;
+    s.directions = column_directions(desc);
+    for (const auto& d : s.directions) s.directions_d.push_back(d.cast<double>());
+    // Column i is the centre of pixel i of an n-wide image whose horizontal
+    // half-angle is fan/2 (sensor/rays.h): NDC x = (y/z) / tan(fan/2).
+    s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);
+    s.camera_mm = camera_model(desc).centre_mm;
+    s.mesh = prepare(mesh_world);
+    s.bvh = MeshBvh(s.mesh.positions, s.mesh.indices);
+
+    rows_ = std::clamp(options.rows_per_pass, 1, kMaxRowsPerPass);
+    int threads = options.threads;
+    if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::clamp(threads, 1, kMaxThreads);
+    workers_.resize(static_cast<std::size_t>(threads));
+    // The first worker runs on the caller's thread and is built now, so a GL
+    // or shader failure shows at construction.
+    workers_[0] = std::make_unique<Worker>(s, rows_);
+    for (int t = 1; t < threads; ++t) threads_.push_back(std::make_unique<JobThread>());
+  }
+
+  ~RasterSource() override {
+    // A worker's context is destroyed on the thread it was current on.
+    for (std::size_t t = 0; t < threads_.size(); ++t) {
+      if (!workers_[t + 1]) continue;
+      threads_[t]->submit([this, t] { workers_[t + 1].reset(); });
+      try {
+        threads_[t]->wait();
+      } catch (...) {
+      }
+    }
+  }
+
+  void scan(const Pose& world_from_sensor, Profile& out) override {
+    workers_[0]->scan(std::span(&world_from_sensor, 1), std::span(&out, 1));
+  }
+
+  void scan_batch(std::span<const Pose> poses, std::span<Profile> out) override {
+    const std::size_t total = std::min(poses.size(), out.size());
+    const std::size_t parts =
+        std::clamp<std::size_t>(total / kMinProfilesPerThread, 1, workers_.size());
+    const std::size_t per = (total + parts - 1) / parts;
+    for (std::size_t t = 1; t < parts; ++t) {
+      const std::size_t first = std::min(total, t * per);
+      const std::size_t count = std::min(total, first + per) - first;
+      threads_[t - 1]->submit([this, t, first, count, poses, out] {
+        if (!workers_[t]) workers_[t] = std::make_unique<Worker>(*scene_, rows_);
+        workers_[t]->scan(poses.subspan(first, count), out.subspan(first, count));
+      });
+    }
+    std::exception_ptr error;
+    try {
+      workers_[0]->scan(poses.first(std::min(total, per)), out.first(std::min(total, per)));
+    } catch (...) {
+      error = std::current_exception();
+    }
+    for (std::size_t t = 1; t < parts; ++t) {
+      try {
+        threads_[t - 1]->wait();
+      } catch (...) {
+        if (!error) error = std::current_exception();
+      }
+    }
+    if (error) std::rethrow_exception(error);
+  }
+
+  const ScannerDesc& scanner() const override { return scene_->desc; }
   std::string_view kind() const override { return "raster"; }
 
  private:
-  // The camera shadow pass (shaders/shadow.frag). A virtual pinhole camera at
-  // the camera centre c (sensor frame, c_y = 0) with x' along c (the baseline
-  // from the laser origin), y' = sensor y and z' = x' cross y' sees the plane
-  // through c, the laser origin and column i's ray (0, t_i, 1) as the line
-  // y'/z' = t_i |c| / c_x. Its n rows, uniform in y'/z' over the fan, are
-  // therefore exactly the columns' epipolar planes; along x' the window spans
-  // the directions of this profile's lit points.
-  void camera_shadow(const Eigen::Matrix4d& sensor_from_mesh, const Eigen::Matrix3d& r,
-                     const Eigen::Vector3d& origin_c, Profile& out) {
-    const int n = desc_.points;
-    const Eigen::Vector3d c = camera_mm_;
-    const Eigen::Vector3d xa = c.normalized();
-    const Eigen::Vector3d ya = Eigen::Vector3d::UnitY();
-    const Eigen::Vector3d za = xa.cross(ya);
-
-    // Direction of each lit point from the camera, x'/z'.
-    double q_lo = std::numeric_limits<double>::infinity(), q_hi = -q_lo;
-    int lit = 0;
-    for (int i = 0; i < n; ++i) {
-      if (!out.valid[i]) continue;
-      const Eigen::Vector3d d = double(out.range_mm[i]) * directions_[i].cast<double>() - c;
-      const double q = d.dot(xa) / d.dot(za);
-      shadowed_[i] = 0;
-      lit_[2 * i + 1] = static_cast<float>(q);  // texel filled in below
-      q_lo = std::min(q_lo, q);
-      q_hi = std::max(q_hi, q);
-      ++lit;
-    }
-    if (lit == 0) return;
-    // Two texels of margin on each side.
-    const double mid = 0.5 * (q_lo + q_hi);
-    const double half =
-        std::max(0.5 * (q_hi - q_lo) * kShadowTexels / (kShadowTexels - 4.0), kMinShadowHalfWidth);
-    for (int i = 0; i < n; ++i) {
-      if (!out.valid[i]) {
-        lit_[2 * i] = 0.0f;
-        lit_[2 * i + 1] = -2.0f;
-        continue;
-      }
-      const double q = lit_[2 * i + 1];
-      const double texel = std::floor((q - (mid - half)) / (2.0 * half) * kShadowTexels);
-      lit_[2 * i] = out.range_mm[i];
-      lit_[2 * i + 1] = static_cast<float>(std::clamp(texel, 0.0, kShadowTexels - 1.0));
-    }
-
-    // Sensor -> camera (rows x', y', z'; centre at c) -> clip.
-    Eigen::Matrix4d camera_from_sensor = Eigen::Matrix4d::Identity();
-    camera_from_sensor.block<1, 3>(0, 0) = xa.transpose();
-    camera_from_sensor.block<1, 3>(1, 0) = ya.transpose();
-    camera_from_sensor.block<1, 3>(2, 0) = za.transpose();
-    camera_from_sensor.topRightCorner<3, 1>() =
-        -(camera_from_sensor.topLeftCorner<3, 3>() * c);
-    const double tan_half_rows = tan_half_fan_ * c.norm() / c.x();
-    Eigen::Matrix4d clip_from_camera = Eigen::Matrix4d::Zero();
-    clip_from_camera(0, 0) = 1.0 / half;
-    clip_from_camera(0, 2) = -mid / half;
-    clip_from_camera(1, 1) = 1.0 / tan_half_rows;
-    clip_from_camera(2, 2) = 1.0;
-    clip_from_camera(2, 3) = -2.0 * kNearClipMm;
-    clip_from_camera(3, 2) = 1.0;
-    const Eigen::Matrix4f clip_from_mesh =
-        (clip_from_camera * camera_from_sensor * sensor_from_mesh).cast<float>();
-    const Eigen::Vector3d camera_c = r * c + origin_c;
-
-    glUseProgram(shadow_program_);
-    glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-    glViewport(0, 0, kShadowTexels, n);
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_CLIP_DISTANCE0);
-    glEnable(GL_CLIP_DISTANCE1);
-    glUniformMatrix4fv(u_shadow_clip_from_mesh_, 1, GL_FALSE, clip_from_mesh.data());
-    // Sensor x = row 0 of sensor_from_mesh; keep -margin <= x <= baseline + margin.
-    const Eigen::Vector4d x_of = sensor_from_mesh.row(0).transpose();
-    const Eigen::Vector4f slab[2] = {
-        (x_of + Eigen::Vector4d(0, 0, 0, kShadowSlabMarginMm)).cast<float>(),
-        (-x_of + Eigen::Vector4d(0, 0, 0, c.x() + kShadowSlabMarginMm)).cast<float>()};
-    glUniform4fv(u_shadow_slab_, 2, slab[0].data());
-    for (int k = 0; k < 3; ++k) camera_block_[k] = camera_c[k];
-    camera_block_[3] = kShadowEpsilonMm;
-    glBindBuffer(GL_UNIFORM_BUFFER, camera_ubo_);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof camera_block_, camera_block_);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, lit_ssbo_);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                    static_cast<GLsizeiptr>(lit_.size() * sizeof(float)), lit_.data());
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, shadowed_ssbo_);
-    const GLuint zero = 0;
-    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0,
-                       static_cast<GLsizeiptr>(shadowed_.size() * sizeof(std::uint32_t)),
-                       shadowed_.data());
-    glDisable(GL_CLIP_DISTANCE0);
-    glDisable(GL_CLIP_DISTANCE1);
-    for (int i = 0; i < n; ++i)
-      if (out.valid[i] && shadowed_[i]) out.camera_visible[i] = 0;
-  }
-
-  ScannerDesc desc_;
-  std::vector<Eigen::Vector3f> directions_;  // sensor frame, unit, per column
-  std::vector<float> readback_;              // per column: raw range (0 = no hit), |cos|
-  std::vector<float> lit_;                   // per column: range (0 = none), shadow texel
-  std::vector<std::uint32_t> shadowed_;      // per column: 1 = occluded
-  double tan_half_fan_ = 0.0;
-  double tan_half_row_ = 0.0;
-  Eigen::Vector3d camera_mm_ = Eigen::Vector3d::Zero();  // camera centre, sensor frame
-  Eigen::Vector3d centre_mm_ = Eigen::Vector3d::Zero();  // mesh centre, world mm
-  GlContext context_;  // created before, destroyed after, every GL object below
-  GLsizei index_count_ = 0;
-  GLuint program_ = 0, shadow_program_ = 0;
-  GLint u_clip_from_mesh_ = -1;
-  GLint u_shadow_clip_from_mesh_ = -1, u_shadow_slab_ = -1;
-  double pose_block_[16] = {};  // the Pose uniform block, std140
-  double camera_block_[4] = {};  // the Camera uniform block, std140
-  GLuint pose_ubo_ = 0, camera_ubo_ = 0;
-  GLuint vao_ = 0, vbo_ = 0, ebo_ = 0;
-  GLuint directions_ssbo_ = 0, planes_ssbo_ = 0, lit_ssbo_ = 0, shadowed_ssbo_ = 0;
-  GLuint colour_rb_ = 0, depth_rb_ = 0, fbo_ = 0, shadow_fbo_ = 0;
+  std::unique_ptr<SharedScene> scene_;  // read by the workers; outlives them
+  int rows_ = 1;
+  std::vector<std::unique_ptr<Worker>> workers_;    // [0] on the caller's thread
+  std::vector<std::unique_ptr<JobThread>> threads_;  // run workers_[1..]
 };
 
 }  // namespace
 
 std::unique_ptr<ProfileSource> make_raster_source(const ScannerDesc& desc,
-                                                  const Mesh& mesh_world) {
+                                                  const Mesh& mesh_world,
+                                                  const RasterOptions& options) {
   if (const std::string problem = validate(desc); !problem.empty())
     throw std::invalid_argument("raster source: scanner " + problem);
-  return std::make_unique<RasterSource>(desc, mesh_world);
+  return std::make_unique<RasterSource>(desc, mesh_world, options);
 }
 
 }  // namespace vts

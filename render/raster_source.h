@@ -1,11 +1,26 @@
 #pragma once
-// The raster profile source: emulates the scanner by rasterizing the mesh into
-// a one-row float target of desc.points columns seen from the laser origin
-// (OSMesa/llvmpipe, headless), and reading each column back as the range along
-// that column's ray (sensor/rays.h). Ranges are exact ray/plane intersections
-// per covering triangle, so they agree with the ray-cast reference to well
-// under a micrometre; hit/miss can differ only where a ray passes within about
-// 1/256 pixel of a mesh boundary edge.
+// The raster profile source: emulates the scanner by rasterizing the optical
+// plane's slice of the mesh into a one-row depth buffer per profile (OSMesa,
+// llvmpipe, headless). For each profile, a bounding-volume hierarchy over the
+// mesh (sensor/mesh_bvh.h) finds the triangles its laser plane cuts; each cut
+// is a segment in the plane, sent as a quad one row tall, already projected
+// (column coordinate y/z, reversed depth near/z). One draw covers up to 256
+// profiles, one row each; the depth test keeps the nearest segment per column
+// and the target holds its triangle's number. The range along the column's
+// ray is then the exact ray/plane intersection with that triangle, in double,
+// so it agrees with the ray-cast reference to well under a micrometre;
+// hit/miss can differ only where a ray passes within about 1/256 pixel of a
+// mesh boundary edge. For a closed mesh with consistent winding, faces turned
+// away from the laser are not drawn (they are always behind a front face).
+//
+// The camera shadow (sensor/error_model.h) is tested on the CPU against the
+// same hierarchy: per group of lit columns, the triangles near the sight lines
+// to the camera, each intersected exactly with each sight line
+// (docs/SENSOR_MODEL.md).
+//
+// A batch is split over `threads` workers, each with its own OSMesa context
+// on its own thread. No allocation per profile once the scratch has grown to
+// the largest pass.
 #include <memory>
 
 #include "sensor/mesh.h"
@@ -14,14 +29,25 @@
 
 namespace vts {
 
+struct RasterOptions {
+  // Workers for scan_batch (each its own OpenGL context; the first runs on
+  // the calling thread, the others on threads of their own, started with the
+  // source and given contexts on first use). 0: one per hardware thread.
+  int threads = 0;
+  // Profiles per draw (at most 256).
+  int rows_per_pass = 256;
+};
+
 // Builds a source over a copy of mesh_world (world frame, mm); the mesh is
 // uploaded once, GL objects are created once and reused by every scan().
-// Each source owns its own OpenGL context: one source may be used by one
-// thread at a time; separate sources may run on separate threads.
+// One source may be used by one thread at a time; separate sources may run on
+// separate threads. scan() runs on the calling thread; scan_batch() splits
+// batches of 64 profiles or more over the workers.
 // Throws std::invalid_argument if validate(desc) fails or a triangle indexes
 // past the vertex list, std::runtime_error if the GL context or a shader fails.
 // Zero-area triangles are skipped; back faces are not culled.
 std::unique_ptr<ProfileSource> make_raster_source(const ScannerDesc& desc,
-                                                  const Mesh& mesh_world);
+                                                  const Mesh& mesh_world,
+                                                  const RasterOptions& options = {});
 
 }  // namespace vts

@@ -39,15 +39,19 @@ constexpr std::uint64_t mix(std::uint64_t z) {
 
 // Counter-based draws for one profile: uniform(column, purpose) is a pure
 // function of (seed, profile index, column, purpose).
+// column_keys[column * kPurposes + p] must hold column_key(column, p) (the
+// half of the hash that does not depend on the profile, cached per run).
 class Draws {
  public:
-  Draws(std::uint64_t seed, std::int64_t profile)
-      : key_(mix(mix(seed) ^ static_cast<std::uint64_t>(profile))) {}
+  Draws(std::uint64_t seed, std::int64_t profile, const std::uint64_t* column_keys)
+      : key_(mix(mix(seed) ^ static_cast<std::uint64_t>(profile))), column_keys_(column_keys) {}
 
+  static std::uint64_t column_key(int column, std::uint64_t p) {
+    return mix(static_cast<std::uint64_t>(column) * kPurposes + p);
+  }
   // In [0, 1), 53 random bits.
   double uniform(int column, Purpose p) const {
-    const std::uint64_t h =
-        mix(key_ ^ mix(static_cast<std::uint64_t>(column) * kPurposes + p));
+    const std::uint64_t h = mix(key_ ^ column_keys_[static_cast<std::size_t>(column) * kPurposes + p]);
     return static_cast<double>(h >> 11) * 0x1.0p-53;
   }
   // Standard normal (Box-Muller).
@@ -59,6 +63,7 @@ class Draws {
 
  private:
   std::uint64_t key_;
+  const std::uint64_t* column_keys_;
 };
 
 void cache_columns(const ScannerDesc& desc, ScanState& state) {
@@ -67,11 +72,28 @@ void cache_columns(const ScannerDesc& desc, ScanState& state) {
     return;
   state.column_tan.resize(desc.points);
   for (int i = 0; i < desc.points; ++i) state.column_tan[i] = column_tan(desc, i);
+  state.column_keys.resize(static_cast<std::size_t>(desc.points) * kPurposes);
+  for (int i = 0; i < desc.points; ++i)
+    for (std::uint64_t p = 0; p < kPurposes; ++p)
+      state.column_keys[static_cast<std::size_t>(i) * kPurposes + p] = Draws::column_key(i, p);
   state.cached_points = desc.points;
   state.cached_fan_deg = desc.fan_deg;
 }
 
 }  // namespace
+
+void add_counts(ScanState& total, const ScanState& part) {
+  total.profiles += part.profiles;
+  total.lit += part.lit;
+  total.measured += part.measured;
+  total.outside_roi += part.outside_roi;
+  total.grazing += part.grazing;
+  total.shadowed += part.shadowed;
+  total.outside_image += part.outside_image;
+  total.dropouts += part.dropouts;
+  total.shiny_outliers += part.shiny_outliers;
+  total.rough_outliers += part.rough_outliers;
+}
 
 CameraModel camera_model(const ScannerDesc& d) {
   CameraModel cam;
@@ -134,7 +156,7 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
   ++state.profiles;
 
   const CameraModel cam = camera_model(desc);
-  const Draws draws(state.seed, ideal.index);
+  const Draws draws(state.seed, ideal.index, state.column_keys.data());
   const double cos_max_incidence = std::cos(desc.max_incidence_deg * kDeg);
   const int roi_last = std::min(desc.roi_last_column, n - 1);
   const double step = desc.subpixel_step_px;

@@ -48,9 +48,14 @@ struct ScanState {
   // Scratch, sized on first use (no allocation per profile afterwards).
   std::vector<float> cluster_offset_mm;  // per column, 0 = not in a cluster
   std::vector<double> column_tan;        // t_i of sensor/rays.h
+  std::vector<std::uint64_t> column_keys;  // per column and purpose: the draws' column hash
   int cached_points = 0;
   double cached_fan_deg = 0.0;
 };
+
+// Adds part's counters to total's (for runs split over threads, each with
+// its own ScanState); seed and scratch are left alone.
+void add_counts(ScanState& total, const ScanState& part);
 
 // The camera derived from a ScannerDesc (see the header comment).
 struct CameraModel {

@@ -64,8 +64,10 @@ constexpr std::size_t kMinProfilesPerThread = 64;
 
 class ReferenceSource final : public ProfileSource {
  public:
-  ReferenceSource(const ScannerDesc& desc, const Mesh& mesh)
-      : desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm) {
+  ReferenceSource(const ScannerDesc& desc, const Mesh& mesh, int threads)
+      : threads_(threads > 0 ? static_cast<std::size_t>(threads)
+                             : std::max(1u, std::thread::hardware_concurrency())),
+        desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm) {
     dirs_d_.reserve(dirs_.size());
     for (const auto& d : dirs_) dirs_d_.push_back(d.cast<double>());
     build_scene(mesh);
@@ -78,8 +80,7 @@ class ReferenceSource final : public ProfileSource {
   void scan_batch(std::span<const Pose> poses, std::span<Profile> out) override {
     assert(poses.size() == out.size());
     const std::size_t n = std::min(poses.size(), out.size());
-    const std::size_t hw = std::max(1u, std::thread::hardware_concurrency());
-    const std::size_t threads = std::min(hw, n / kMinProfilesPerThread);
+    const std::size_t threads = std::min(threads_, n / kMinProfilesPerThread);
     if (threads <= 1) {
       for (std::size_t i = 0; i < n; ++i) scan_one(poses[i], out[i]);
       return;
@@ -107,6 +108,8 @@ class ReferenceSource final : public ProfileSource {
   std::string_view kind() const override { return "reference"; }
 
  private:
+  std::size_t threads_;  // most threads a batch is spread over
+
   void build_scene(const Mesh& mesh) {
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
       for (std::uint32_t v : mesh.triangles[t])
@@ -272,10 +275,10 @@ class ReferenceSource final : public ProfileSource {
 }  // namespace
 
 std::unique_ptr<ProfileSource> make_reference_source(const ScannerDesc& desc,
-                                                     const Mesh& mesh_world) {
+                                                     const Mesh& mesh_world, int threads) {
   if (const std::string why = validate(desc); !why.empty())
     throw std::invalid_argument("reference source: scanner " + why);
-  return std::make_unique<ReferenceSource>(desc, mesh_world);
+  return std::make_unique<ReferenceSource>(desc, mesh_world, threads);
 }
 
 }  // namespace vts

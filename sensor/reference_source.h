@@ -18,13 +18,13 @@ namespace vts {
 //
 // scan() sets out.world_from_sensor to the pose and resizes `out` to
 // desc.points (no allocation when it already has that size); it leaves
-// out.time_s and out.index to the caller. scan_batch() spreads large batches
-// over the hardware threads.
+// out.time_s and out.index to the caller. scan_batch() spreads batches of 64
+// profiles or more over `threads` threads (0: one per hardware thread).
 //
 // Throws std::invalid_argument if validate(desc) fails or a triangle indexes a
 // vertex that does not exist, std::runtime_error with Embree's message if
 // Embree fails.
 std::unique_ptr<ProfileSource> make_reference_source(const ScannerDesc& desc,
-                                                     const Mesh& mesh_world);
+                                                     const Mesh& mesh_world, int threads = 0);
 
 }  // namespace vts

@@ -1,11 +1,18 @@
 #version 450 core
-// Laser-view projection of the mesh (render/raster_source.cpp builds the matrix).
-// Positions are world mm relative to the mesh centre, so the float transform
-// does not lose precision far from the world origin.
-layout(location = 0) in vec3 a_position_mm;
+// Laser pass, many profiles per draw (render/raster_source.cpp): the optical
+// plane's slice of the mesh, rasterized into a target with one row per
+// profile. The CPU cuts every triangle that crosses a profile's laser plane
+// into its segment in that plane and sends the segment as a quad exactly one
+// row tall, already projected: x = NDC column coordinate (y/z over the fan's
+// tangent), y = NDC y of the profile's row edges, z = near / z (reversed depth,
+// exact along the segment because 1/z is affine in y/z on a line). Nothing is
+// transformed or clipped here.
+layout(location = 0) in vec3 a_ndc;
+layout(location = 1) in uvec2 a_row_triangle;  // row in the pass, mesh triangle
 
-uniform mat4 u_clip_from_mesh;
+flat out uvec2 v_row_triangle;
 
 void main() {
-  gl_Position = u_clip_from_mesh * vec4(a_position_mm, 1.0);
+  gl_Position = vec4(a_ndc, 1.0);
+  v_row_triangle = a_row_triangle;
 }

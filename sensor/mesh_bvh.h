@@ -1,0 +1,66 @@
+#pragma once
+// A bounding-volume hierarchy over a mesh's triangles, for the queries the
+// raster emulator makes before it draws (render/raster_source.cpp): which
+// triangles cross a laser plane inside the fan, and which lie inside a convex
+// region (the camera-shadow frustum). Both queries are conservative at the
+// node level and exact per triangle, in double, with a small tolerance on the
+// inclusive side, so culling never drops a triangle the rasterizer would hit.
+//
+// Built once (O(T log T)); queries touch only the nodes near the region, so
+// their cost grows with the triangles found, not with the mesh.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace vts {
+
+class MeshBvh {
+ public:
+  MeshBvh() = default;
+  // positions: xyz per vertex; triangles: 3 vertex indices each. Every index
+  // must be < positions.size() / 3 (the caller checks).
+  MeshBvh(std::span<const float> positions, std::span<const std::uint32_t> triangles);
+
+  std::size_t triangle_count() const { return tri_count_; }
+
+  // Queries append entries: positions in the hierarchy's own triangle order,
+  // where a leaf's triangles lie together in memory. triangle(e) gives the
+  // triangle number (index into `triangles` / 3), corners(e) its corners
+  // (x, y, z of each, as given).
+  std::uint32_t triangle(std::uint32_t entry) const { return order_[entry]; }
+  const std::array<float, 9>& corners(std::uint32_t entry) const { return corners_[entry]; }
+
+  // Triangles with vertices on both sides of (or on) the plane
+  // dot(n, p) = d (within tol_mm), and whose bounding box meets the box
+  // [box_lo, box_hi]. Appends their entries to out, each once, in no
+  // particular order.
+  void crossing_plane(const Eigen::Vector3d& n, double d, const Eigen::Vector3d& box_lo,
+                      const Eigen::Vector3d& box_hi, double tol_mm,
+                      std::vector<std::uint32_t>& out) const;
+
+  // Entries of the triangles not entirely outside any one of the half-spaces
+  // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).
+  // Conservative: a triangle outside the region but not outside a single
+  // plane is kept.
+  void inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out) const;
+
+ private:
+  struct Node {
+    float lo[3], hi[3];
+    std::uint32_t first;  // leaf: first entry in order_; inner: right child (left = this + 1)
+    std::uint32_t count;  // leaf: triangle count; inner: 0
+  };
+  void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
+             std::vector<Eigen::Vector3f>& centroids);
+
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> order_;            // triangle numbers in leaf order
+  std::vector<std::array<float, 9>> corners_;   // per triangle, in leaf order
+  std::vector<std::array<float, 6>> tri_boxes_; // per triangle box, build scratch
+  std::size_t tri_count_ = 0;
+};
+
+}  // namespace vts
