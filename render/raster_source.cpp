@@ -45,6 +45,8 @@ constexpr double kCullMarginMm = 0.01;
 
 // Profiles drawn in one pass (one draw), per worker.
 constexpr int kMaxRowsPerPass = 256;
+// Profiles with parallel laser planes culled by one hierarchy query.
+constexpr int kCullBlock = 16;
 // Worker threads (each with its own OpenGL context) per source.
 constexpr int kMaxThreads = 16;
 // Below this many profiles per worker a batch is not split further.
@@ -648,28 +650,63 @@ class Worker {
     const int count = static_cast<int>(poses.size());
     const double reach = s_.desc.max_hit_mm;
     stream_.clear();
-    for (int k = 0; k < count; ++k) {
-      // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
-      const Eigen::Matrix3d r = poses[k].linear();
-      const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
-
-      // Only the triangles that cross this profile's laser plane inside the
-      // fan can cover a column's ray. The fan (radius `reach`) lies inside
-      // the triangle from the origin to (0, +-T reach, reach).
-      const Eigen::Vector3d n_world = r.col(0);
-      const Eigen::Vector3d far = r.col(2) * reach;
-      const Eigen::Vector3d side = r.col(1) * (reach * s_.tan_half_fan);
-      Eigen::Vector3d lo = origin_c.cwiseMin(origin_c + far - side).cwiseMin(origin_c + far + side);
-      Eigen::Vector3d hi = origin_c.cwiseMax(origin_c + far - side).cwiseMax(origin_c + far + side);
+    // Only the triangles that cross a profile's laser plane inside the fan
+    // can cover a column's ray. The fan (radius `reach`) lies inside the
+    // triangle from the origin to (0, +-T reach, reach). Profiles whose laser
+    // planes are parallel (a straight path at fixed orientation) are culled in
+    // blocks: one hierarchy query for the slab between the block's planes,
+    // then each triangle found is sorted to the planes it crosses.
+    for (int k0 = 0; k0 < count;) {
+      const Eigen::Vector3d n_world = poses[k0].linear().col(0);
+      int k1 = k0 + 1;
+      while (k1 < count && k1 - k0 < kCullBlock && poses[k1].linear().col(0) == n_world) ++k1;
+      const int rows = k1 - k0;
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+      Eigen::Vector3d hi = -lo;
+      double d_lo = std::numeric_limits<double>::infinity(), d_hi = -d_lo;
+      for (int k = k0; k < k1; ++k) {
+        const Eigen::Matrix3d r = poses[k].linear();
+        const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+        const Eigen::Vector3d far = r.col(2) * reach;
+        const Eigen::Vector3d side = r.col(1) * (reach * s_.tan_half_fan);
+        lo = lo.cwiseMin(origin_c).cwiseMin(origin_c + far - side).cwiseMin(origin_c + far + side);
+        hi = hi.cwiseMax(origin_c).cwiseMax(origin_c + far - side).cwiseMax(origin_c + far + side);
+        plane_d_[k - k0] = n_world.dot(origin_c);
+        d_lo = std::min(d_lo, plane_d_[k - k0]);
+        d_hi = std::max(d_hi, plane_d_[k - k0]);
+      }
       lo.array() -= kCullMarginMm;
       hi.array() += kCullMarginMm;
       culled_.clear();
-      s_.bvh.crossing_plane(n_world, n_world.dot(origin_c), lo, hi, kCullMarginMm, culled_);
-      const Eigen::Matrix3d rt = r.transpose();
-      segments_.clear();
-      for (std::uint32_t e : culled_) slice(e, rt, origin_c);
-      join_collinear();
-      for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
+      s_.bvh.crossing_plane(n_world, 0.5 * (d_lo + d_hi), lo, hi,
+                            0.5 * (d_hi - d_lo) + kCullMarginMm, culled_);
+      for (int k = 0; k < rows; ++k) row_entries_[k].clear();
+      if (rows == 1) {
+        row_entries_[0].swap(culled_);
+      } else {
+        for (std::uint32_t e : culled_) {
+          const std::array<float, 9>& c = s_.bvh.corners(e);
+          double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
+          for (int v = 0; v < 3; ++v) {
+            const double sd = n_world.x() * c[3 * v] + n_world.y() * c[3 * v + 1] + n_world.z() * c[3 * v + 2];
+            t_lo = std::min(t_lo, sd);
+            t_hi = std::max(t_hi, sd);
+          }
+          for (int k = 0; k < rows; ++k)
+            if (t_lo <= plane_d_[k] + kCullMarginMm && t_hi >= plane_d_[k] - kCullMarginMm)
+              row_entries_[k].push_back(e);
+        }
+      }
+      for (int k = k0; k < k1; ++k) {
+        // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
+        const Eigen::Matrix3d rt = poses[k].linear().transpose();
+        const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+        segments_.clear();
+        for (std::uint32_t e : row_entries_[k - k0]) slice(e, rt, origin_c);
+        join_collinear();
+        for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
+      }
+      k0 = k1;
     }
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -726,6 +763,8 @@ class Worker {
   std::vector<StreamVertex> stream_;       // per pass, grows to its largest size
   std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
   std::vector<std::uint32_t> culled_;      // one query's hierarchy entries
+  std::array<std::vector<std::uint32_t>, kCullBlock> row_entries_;  // per profile of a block
+  std::array<double, kCullBlock> plane_d_{};  // laser plane offsets n . origin of a block
   struct Slot {
     std::uint32_t stamp = 0, first = 0, count = 0;
   };
