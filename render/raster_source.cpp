@@ -314,6 +314,24 @@ class ShadowTester {
         const Eigen::Vector3d nw = r * planes_s_[k].head<3>();
         planes_w_[k] = Eigen::Vector4d(nw.x(), nw.y(), nw.z(), planes_s_[k][3] - nw.dot(origin_c));
       }
+      // And around the sheet of sight lines: the plane through c and the
+      // first and last points, thickened by the farthest point's distance
+      // from it (a point at s along a sight line is s times as far). For a
+      // straight run of points the sheet is thin, and so is the candidate
+      // set.
+      if (m >= 2) {
+        Eigen::Vector3d sheet = d_[m - 1].cross(d_[0]);
+        const double len = sheet.norm();
+        if (len > 0.0) {
+          sheet /= len;
+          double dev = 0.0;
+          for (int j = 0; j < m; ++j) dev = std::max(dev, std::abs(sheet.dot(d_[j])));
+          const double w = -sheet.dot(camera_c) + dev + kCullMarginMm;
+          planes_w_[np++] = Eigen::Vector4d(sheet.x(), sheet.y(), sheet.z(), w);
+          planes_w_[np++] = Eigen::Vector4d(-sheet.x(), -sheet.y(), -sheet.z(),
+                                            sheet.dot(camera_c) + dev + kCullMarginMm);
+        }
+      }
       candidates_.clear();
       s_.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
 
