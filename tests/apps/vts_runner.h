@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/temp_dir.h"
+
 namespace vts_test {
 
 namespace fs = std::filesystem;
@@ -37,26 +39,9 @@ inline bool contains(const std::string& text, const std::string& part) {
 }
 
 // A temporary working directory, removed with everything in it.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path = fs::temp_directory_path() /
-           ("vts_apps_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
+struct TempDir : vts::test::TempDir {
+  TempDir() : vts::test::TempDir("vts_apps_test") {}
 
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream f(path / name, std::ios::binary);
-    f << text;
-  }
   // Files in the directory other than the captured stdout/stderr, sorted.
   std::vector<std::string> files() const {
     std::vector<std::string> names;

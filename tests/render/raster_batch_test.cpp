@@ -3,42 +3,14 @@
 // allocate once warmed up.
 #include <catch2/catch.hpp>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
 #include "render/raster_source.h"
 #include "sensor/cell.h"
+#include "tests/common/count_allocations.h"
 
 using namespace vts;
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-// Counts heap allocations made through operator new in this test binary, on
-// any thread (the raster source's workers run on threads of their own).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-// Every replaceable form that pairs with the deletes below goes through
-// malloc (ASan reports runtime-allocated memory handed to free).
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+using vts::test::g_allocations;
 
 TEST_CASE("raster: a batch over workers and passes equals one scan per profile", "[gl][raster]") {
   for (const char* name : {"static-B", "lap", "vgroove"}) {

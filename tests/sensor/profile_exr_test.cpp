@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/temp_dir.h"
 #include "sensor/pose.h"
 #include "sensor/profile_exr.h"
 
@@ -23,24 +24,8 @@ using vts::ProfileFileInfo;
 namespace {
 
 // A fresh directory under the system temp dir, removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    static int counter = 0;
-    path = fs::temp_directory_path() /
-           ("vts_exr_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename());
-    return names;
-  }
+struct TempDir : vts::test::TempDir {
+  TempDir() : vts::test::TempDir("vts_exr_test") {}
 };
 
 ProfileFileInfo make_info(int points, int profiles, bool reference) {

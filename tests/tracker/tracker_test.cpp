@@ -10,6 +10,7 @@
 #include <new>
 
 #include "synthetic.h"
+#include "tests/common/count_allocations.h"
 #include "tracker/tracker.h"
 
 namespace tk = vts::tracker;
@@ -17,7 +18,7 @@ using tk::Vec2;
 
 namespace {
 
-std::atomic<long> g_allocations{0};
+using vts::test::g_allocations;
 
 tk::TrackResult track(const synth::Profile& p, tk::JointType joint, tk::TrackerParams params = {}) {
   params.joint = joint;
@@ -29,29 +30,6 @@ tk::TrackResult track(const synth::Profile& p, tk::JointType joint, tk::TrackerP
 double spacing_at(double z) { return z * 2.0 * std::tan(20.0 * std::numbers::pi / 180.0) / 512.0; }
 
 }  // namespace
-
-// Counts heap allocations in this test binary (for the reuse test below).
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-// Every replaceable form that pairs with the deletes below goes through
-// malloc, so no allocation from the runtime's own operator new (or ASan's) is
-// handed to free (ASan reports that as alloc-dealloc-mismatch).
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 TEST_CASE("joint types: names round-trip", "[tracker]") {
   for (tk::JointType j : tk::kAllJointTypes) CHECK(tk::joint_type_from_string(tk::to_string(j)) == j);
