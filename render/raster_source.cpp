@@ -134,18 +134,24 @@ void check_gl(const char* what) {
   throw std::runtime_error(std::string("raster source: GL error ") + code + " after " + what);
 }
 
-// Mesh prepared for upload: positions relative to a centre (so float keeps
-// precision far from the world origin), non-degenerate triangles only, and
-// each kept triangle's plane in the same centred frame.
+// The mesh as the workers use it: non-degenerate triangles only, in a frame
+// centred on the mesh (so float keeps precision far from the world origin),
+// with their planes and the hierarchy that finds them.
 struct PreparedMesh {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();
-  std::vector<float> positions;          // xyz per vertex, centred world mm
-  std::vector<std::uint32_t> indices;    // 3 per kept triangle
-  std::vector<double> planes;            // (nx, ny, nz, w) per kept triangle
+  std::vector<double> planes;  // (nx, ny, nz, w) per kept triangle, centred world mm
+  MeshBvh bvh;                 // over the kept triangles (corners in the centred frame)
   // Every edge of the kept triangles is used once in each direction: the
   // mesh bounds solids with consistent winding, so a triangle that faces away
   // from the laser is always behind one that faces it (from outside).
   bool closed = false;
+
+  // Kept triangle t faces the point p (centred world): p lies strictly on
+  // the outward side of its plane.
+  bool faces(std::uint32_t t, const Eigen::Vector3d& p) const {
+    const double* plane = &planes[4 * std::size_t(t)];
+    return plane[0] * p.x() + plane[1] * p.y() + plane[2] * p.z() > plane[3];
+  }
 };
 
 bool closed_and_oriented(const std::vector<std::uint32_t>& indices) {
@@ -186,13 +192,14 @@ PreparedMesh prepare(const Mesh& mesh) {
     }
   if ((lo.array() <= hi.array()).all()) out.centre_mm = 0.5 * (lo + hi);
 
-  out.positions.resize(3 * nv);
+  std::vector<float> positions(3 * nv);  // xyz per vertex, centred world mm
   for (std::size_t v = 0; v < nv; ++v) {
     const Eigen::Vector3d p = mesh.vertices[v].cast<double>() - out.centre_mm;
-    for (int k = 0; k < 3; ++k) out.positions[3 * v + k] = static_cast<float>(p[k]);
+    for (int k = 0; k < 3; ++k) positions[3 * v + k] = static_cast<float>(p[k]);
   }
 
-  out.indices.reserve(3 * mesh.triangles.size());
+  std::vector<std::uint32_t> indices;  // 3 per kept triangle
+  indices.reserve(3 * mesh.triangles.size());
   out.planes.reserve(4 * mesh.triangles.size());
   for (const auto& tri : mesh.triangles) {
     const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>() - out.centre_mm;
@@ -203,10 +210,11 @@ PreparedMesh prepare(const Mesh& mesh) {
     if (!(norm > 0.0) || !std::isfinite(norm)) continue;  // zero area or non-finite
     const Eigen::Vector3d n = cross / norm;
     const double w = n.dot((a + b + c) / 3.0);
-    out.indices.insert(out.indices.end(), tri.begin(), tri.end());
+    indices.insert(indices.end(), tri.begin(), tri.end());
     out.planes.insert(out.planes.end(), {n.x(), n.y(), n.z(), w});
   }
-  out.closed = closed_and_oriented(out.indices);
+  out.closed = closed_and_oriented(indices);
+  out.bvh = MeshBvh(positions, indices);
   return out;
 }
 
@@ -216,7 +224,6 @@ struct SharedScene {
   std::vector<Eigen::Vector3f> directions;  // sensor frame, unit, per column
   std::vector<Eigen::Vector3d> directions_d;
   PreparedMesh mesh;
-  MeshBvh bvh;                              // over mesh's kept triangles
   double tan_half_fan = 0.0;
   Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
 };
@@ -232,12 +239,14 @@ static_assert(sizeof(StreamVertex) == 20);
 // The camera-shadow test of one profile, on the CPU: the spatial index finds
 // the triangles near the sight lines from the camera centre to a group of lit
 // points, and each candidate is intersected exactly with each sight line.
-// Works in the sensor frame; no allocation once the scratch has grown.
+// Regions are set up in the sensor frame, the tests run in the mesh-centred
+// world frame where the hierarchy keeps the corners. No allocation once the
+// scratch has grown.
 class ShadowTester {
  public:
   explicit ShadowTester(const SharedScene& scene)
       : s_(scene),
-        group_(scene.bvh.triangle_count() >= kLargeMeshTriangles ? kShadowGroupLargeMesh
+        group_(scene.mesh.bvh.triangle_count() >= kLargeMeshTriangles ? kShadowGroupLargeMesh
                                                                  : kShadowGroupSmallMesh) {
     const Eigen::Vector3d c = s_.camera_mm;
     xa_ = c.normalized();
@@ -274,7 +283,8 @@ class ShadowTester {
         dz_[m] = static_cast<float>(dw.z());
         d_[m] = dw;
         // Occluders must cross the sight line before 1 - eps/|D| of the way.
-        tmax_[m] = static_cast<float>(1.0 - kShadowEpsilonMm / d.norm());
+        tmax_d_[m] = 1.0 - kShadowEpsilonMm / d.norm();
+        tmax_[m] = static_cast<float>(tmax_d_[m]);
         hidden_[m] = 0;
         ++m;
       }
@@ -333,7 +343,7 @@ class ShadowTester {
         }
       }
       candidates_.clear();
-      s_.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
+      s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
 
       // Moeller-Trumbore with the common origin C: per triangle the vectors
       // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
@@ -344,15 +354,11 @@ class ShadowTester {
       // camera sees almost edge-on puts the crossing with the point's own
       // face a few hundredths of a millimetre off the point.
       for (std::uint32_t e : candidates_) {
-        const std::uint32_t t = s_.bvh.triangle(e);
-        if (s_.mesh.closed) {
-          // A sight line into a closed solid enters it through a face turned
-          // towards the camera; the others need no test.
-          const double* plane = &s_.mesh.planes[4 * std::size_t(t)];
-          if (plane[0] * camera_c.x() + plane[1] * camera_c.y() + plane[2] * camera_c.z() <= plane[3])
-            continue;
-        }
-        const std::array<float, 9>& k = s_.bvh.corners(e);
+        const std::uint32_t t = s_.mesh.bvh.triangle(e);
+        // A sight line into a closed solid enters it through a face turned
+        // towards the camera; the others need no test.
+        if (s_.mesh.closed && !s_.mesh.faces(t, camera_c)) continue;
+        const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
         const Eigen::Vector3d a(k[0], k[1], k[2]), b(k[3], k[4], k[5]), cc(k[6], k[7], k[8]);
         const Eigen::Vector3d e1v = b - a, e2v = cc - a, tv = camera_c - a;
         const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
@@ -390,7 +396,7 @@ class ShadowTester {
             tn = -tn;
           }
           hidden_[j] = det > 0.0 && un >= 0.0 && vn >= 0.0 && un + vn <= det && tn > 0.0 &&
-                       tn < det * (1.0 - kShadowEpsilonMm / d.norm());
+                       tn < det * tmax_d_[j];
         }
       }
       for (int j = 0; j < m; ++j)
@@ -406,6 +412,7 @@ class ShadowTester {
   std::array<float, kMaxShadowGroup> dx_{}, dy_{}, dz_{}, tmax_{};
   std::array<int, kMaxShadowGroup> hidden_{}, maybe_{};
   std::array<Eigen::Vector3d, kMaxShadowGroup> d_{};  // sight lines, world frame, double
+  std::array<double, kMaxShadowGroup> tmax_d_{};      // tmax_ in double
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
 };
@@ -504,14 +511,10 @@ class Worker {
   // so the two triangles on an edge produce bit-identical end points and the
   // slice stays watertight.
   void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
-    const std::uint32_t t = s_.bvh.triangle(e);
-    if (s_.mesh.closed) {
-      // A face turned away from the laser is hidden behind the solid's front.
-      const double* plane = &s_.mesh.planes[4 * std::size_t(t)];
-      if (plane[0] * origin_c.x() + plane[1] * origin_c.y() + plane[2] * origin_c.z() <= plane[3])
-        return;
-    }
-    const std::array<float, 9>& c = s_.bvh.corners(e);
+    const std::uint32_t t = s_.mesh.bvh.triangle(e);
+    // A face turned away from the laser is hidden behind the solid's front.
+    if (s_.mesh.closed && !s_.mesh.faces(t, origin_c)) return;
+    const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
     Eigen::Vector3d v[3];
     for (int k = 0; k < 3; ++k)
       v[k] = rt * (Eigen::Vector3d(c[3 * k], c[3 * k + 1], c[3 * k + 2]) - origin_c);
@@ -681,7 +684,6 @@ class Worker {
       const int rows = k1 - k0;
       Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
       Eigen::Vector3d hi = -lo;
-      double d_lo = std::numeric_limits<double>::infinity(), d_hi = -d_lo;
       for (int k = k0; k < k1; ++k) {
         const Eigen::Matrix3d r = poses[k].linear();
         const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
@@ -690,31 +692,12 @@ class Worker {
         lo = lo.cwiseMin(origin_c).cwiseMin(origin_c + far - side).cwiseMin(origin_c + far + side);
         hi = hi.cwiseMax(origin_c).cwiseMax(origin_c + far - side).cwiseMax(origin_c + far + side);
         plane_d_[k - k0] = n_world.dot(origin_c);
-        d_lo = std::min(d_lo, plane_d_[k - k0]);
-        d_hi = std::max(d_hi, plane_d_[k - k0]);
+        row_entries_[k - k0].clear();
       }
       lo.array() -= kCullMarginMm;
       hi.array() += kCullMarginMm;
-      culled_.clear();
-      s_.bvh.crossing_plane(n_world, 0.5 * (d_lo + d_hi), lo, hi,
-                            0.5 * (d_hi - d_lo) + kCullMarginMm, culled_);
-      for (int k = 0; k < rows; ++k) row_entries_[k].clear();
-      if (rows == 1) {
-        row_entries_[0].swap(culled_);
-      } else {
-        for (std::uint32_t e : culled_) {
-          const std::array<float, 9>& c = s_.bvh.corners(e);
-          double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
-          for (int v = 0; v < 3; ++v) {
-            const double sd = n_world.x() * c[3 * v] + n_world.y() * c[3 * v + 1] + n_world.z() * c[3 * v + 2];
-            t_lo = std::min(t_lo, sd);
-            t_hi = std::max(t_hi, sd);
-          }
-          for (int k = 0; k < rows; ++k)
-            if (t_lo <= plane_d_[k] + kCullMarginMm && t_hi >= plane_d_[k] - kCullMarginMm)
-              row_entries_[k].push_back(e);
-        }
-      }
+      s_.mesh.bvh.crossing_planes(n_world, std::span(plane_d_.data(), rows), lo, hi, kCullMarginMm,
+                                  std::span(row_entries_.data(), rows));
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
         const Eigen::Matrix3d rt = poses[k].linear().transpose();
@@ -746,7 +729,7 @@ class Worker {
     }
     glReadPixels(0, 0, n, count, GL_RED_INTEGER, GL_UNSIGNED_INT, readback_.data());
 
-    const bool shadows = !s_.desc.ideal && !s_.mesh.indices.empty();
+    const bool shadows = !s_.desc.ideal && s_.mesh.bvh.triangle_count() > 0;
     for (int k = 0; k < count; ++k) {
       Profile& p = out[k];
       if (!p.sized(n)) p.resize(n);
@@ -780,7 +763,6 @@ class Worker {
   int rows_ = 1;       // profiles per pass
   std::vector<StreamVertex> stream_;       // per pass, grows to its largest size
   std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
-  std::vector<std::uint32_t> culled_;      // one query's hierarchy entries
   std::array<std::vector<std::uint32_t>, kCullBlock> row_entries_;  // per profile of a block
   std::array<double, kCullBlock> plane_d_{};  // laser plane offsets n . origin of a block
   struct Slot {
@@ -871,7 +853,6 @@ class RasterSource final : public ProfileSource {
     s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);
     s.camera_mm = camera_model(desc).centre_mm;
     s.mesh = prepare(mesh_world);
-    s.bvh = MeshBvh(s.mesh.positions, s.mesh.indices);
 
     rows_ = std::clamp(options.rows_per_pass, 1, kMaxRowsPerPass);
     int threads = options.threads;

@@ -33,13 +33,15 @@ class MeshBvh {
   std::uint32_t triangle(std::uint32_t entry) const { return order_[entry]; }
   const std::array<float, 9>& corners(std::uint32_t entry) const { return corners_[entry]; }
 
-  // Triangles with vertices on both sides of (or on) the plane
-  // dot(n, p) = d (within tol_mm), and whose bounding box meets the box
-  // [box_lo, box_hi]. Appends their entries to out, each once, in no
-  // particular order.
-  void crossing_plane(const Eigen::Vector3d& n, double d, const Eigen::Vector3d& box_lo,
-                      const Eigen::Vector3d& box_hi, double tol_mm,
-                      std::vector<std::uint32_t>& out) const;
+  // For each offset d[k], the triangles with vertices on both sides of (or
+  // on) the plane dot(n, p) = d[k] (within tol_mm) whose bounding box meets
+  // the box [box_lo, box_hi]: their entries are appended to out[k], each
+  // once, in no particular order. Parallel planes (the laser planes of a
+  // straight path) share one traversal, over the slab between the extreme
+  // offsets. out.size() must be at least d.size().
+  void crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
+                       const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
+                       double tol_mm, std::span<std::vector<std::uint32_t>> out) const;
 
   // Entries of the triangles not entirely outside any one of the half-spaces
   // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).
@@ -53,13 +55,17 @@ class MeshBvh {
     std::uint32_t first;  // leaf: first entry in order_; inner: right child (left = this + 1)
     std::uint32_t count;  // leaf: triangle count; inner: 0
   };
+  using Box = std::array<float, 6>;  // lo xyz, hi xyz
   void build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
-             std::vector<Eigen::Vector3f>& centroids);
+             const std::vector<Box>& boxes, const std::vector<Eigen::Vector3f>& centroids);
+  // Depth-first walk: descends into the nodes `visible` accepts and hands
+  // every entry of a visible leaf to `leaf`.
+  template <class Visible, class Leaf>
+  void walk(Visible visible, Leaf leaf) const;
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;            // triangle numbers in leaf order
   std::vector<std::array<float, 9>> corners_;   // per triangle, in leaf order
-  std::vector<std::array<float, 6>> tri_boxes_; // per triangle box, build scratch
   std::size_t tri_count_ = 0;
 };
 
