@@ -106,6 +106,11 @@ struct VGrooveParams {
   // A bevel seen at a grazing angle has few points: bevels need only this
   // many (the plate tops need SegmentParams::min_segment_points).
   int min_bevel_points = 4;
+  // A bevel seen edge-on and thinned by dropouts can have fewer: a segment of
+  // at least two points with its plate top (a long segment) directly on its
+  // outer side is a bevel if it has this many points, counting the points
+  // removed as outliers between it and the top that lie on its line.
+  int min_short_bevel_points = 3;
 };
 
 struct TrackerParams {

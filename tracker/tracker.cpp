@@ -223,10 +223,10 @@ class Matcher {
     bool trimmed = false;  // end points past x were dropped (see trimmed())
   };
   // Segments i and j (indices into the segment list) as a pair of plates.
-  std::optional<Pair> pair_of(int i, int j) const {
-    const Segment& si = s_.segments[i];
-    const Segment& sj = s_.segments[j];
-    Pair pr{plate_of(si), plate_of(sj), Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
+  std::optional<Pair> pair_of(int i, int j) const { return pair_of(plate_of(s_.segments[i]), plate_of(s_.segments[j])); }
+  // Plates a and b (a first in scan order) as a pair.
+  std::optional<Pair> pair_of(const Plate& a, const Plate& b) const {
+    Pair pr{a, b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
     if (!near_enough(pr.a, pr.b)) return std::nullopt;
     const auto x = intersect(pr.a.line, pr.b.line, std::sin(5.0 * kDeg));
     if (!x) return std::nullopt;
@@ -289,11 +289,11 @@ class Matcher {
   // skips a piece of it would read a wrong edge).
   bool continues_either(const Segment& mid, int q1, int q2) const {
     // ...and its fitted line stays on the plate's line over its whole length.
-    auto along = [&](const Segment& pl) {
-      return same_line(mid.sums, pl.sums) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
-             pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
-    };
-    return along(seg(q1)) || along(seg(q2));
+    return continues(mid, seg(q1)) || continues(mid, seg(q2));
+  }
+  bool continues(const Segment& mid, const Segment& pl) const {
+    return same_line(mid.sums, pl.sums) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
+           pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
   }
 
   // Some point of [from, to] lies off both lines (more than the tolerance).
@@ -389,12 +389,20 @@ class Matcher {
 
   void corner() {
     const CornerParams& cp = p_.corner;
-    // The faces are neighbouring long segments, or have one between them
-    // that continues neither (the notch of a gap, seen close up).
+    // The faces are neighbouring long segments, or have one or two between
+    // them that continue neither (the notch of a gap, seen close up: the two
+    // end faces, each can be a long segment).
     for (int q = 0; q + 1 < n_long(); ++q) {
-      for (int q2 = q + 1; q2 <= std::min(q + 2, n_long() - 1); ++q2) {
-        if (q2 == q + 2 && continues_either(seg(q + 1), q, q2)) continue;
-        auto pr = pair_of(longs_[q], longs_[q2]);
+      for (int q2 = q + 1; q2 <= std::min(q + 3, n_long() - 1); ++q2) {
+        bool notch = true;
+        for (int m = q + 1; m < q2 && notch; ++m) notch = !continues_either(seg(m), q, q2);
+        if (!notch) continue;
+        // Two pieces of one face (noise cut it) are no corner.
+        if (same_line(seg(q).sums, seg(q2).sums)) continue;
+        // Each face over the long segments beyond it that continue its line
+        // (noise can cut a face in pieces; the piece at the corner alone
+        // would give a wrong angle).
+        auto pr = pair_of(extended(q, -1), extended(q2, +1));
         if (!pr || pr->valley) continue;
         pr = trimmed(*pr);
         if (!pr || pr->valley) continue;
@@ -406,8 +414,25 @@ class Matcher {
         // Faces that meet between two neighbouring rays (or in a run of
         // invalid columns) are one sharp edge: missing points are no gap.
         if (pr->trimmed || off_both(from, to, a.line, b.line) || !meet_between_rays(a, b, pr->x)) {
-          el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to));
-          er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to));
+          // A face reaches as far as the points after it that lie on its
+          // line (within the surface tolerance, on its side of the lines'
+          // apex), over single points off it (noise): a dropout or a noisy
+          // point can end its segment early, and the few face points after
+          // it then fall into the notch's segment.
+          auto on_face = [&](const Plate& f, const Vec2& u, int i) {
+            return f.line.distance(pt(i)) <= tol_ && (pt(i) - pr->x).dot(u) > 0.0;
+          };
+          auto reach = [&](const Plate& f, const Vec2& u, int end, int step, int stop) {
+            for (int i = end + step; i != stop; i += step) {
+              if (on_face(f, u, i)) end = i;
+              else if (i + step == stop || !on_face(f, u, i + step)) break;
+            }
+            return end;
+          };
+          const int a_end = reach(a, pr->ua, a.last, +1, b.first);
+          const int b_end = reach(b, pr->ub, b.first, -1, a_end);
+          el = edge(a, a_end, s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1));
+          er = edge(b, b_end, s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1));
         }
         c.angle = angle_between_deg(pr->ua, pr->ub);
         c.gap = (er.point - el.point).norm();
@@ -634,10 +659,21 @@ class Matcher {
     // Bevels may be short (seen at a grazing angle); the tops must be long.
     // A root face seen between the bevels can be a segment of its own, so a
     // bevel pair may have one segment between them.
+    // A bevel seen edge-on can keep even fewer points after dropouts: a
+    // shorter segment is a bevel candidate when a plate top (a long segment)
+    // follows or precedes it directly; vgroove_pair then requires that top.
     const int min_bevel = std::max(2, vp.min_bevel_points);
+    const int n_seg = static_cast<int>(s_.segments.size());
+    const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
+    auto is_long = [&](int k) {
+      return k >= 0 && k < n_seg && s_.segments[k].fitted && s_.segments[k].count() >= s_min;
+    };
     bevels_.clear();
-    for (int j = 0; j < static_cast<int>(s_.segments.size()); ++j)
-      if (s_.segments[j].fitted && s_.segments[j].count() >= min_bevel) bevels_.push_back(j);
+    for (int j = 0; j < n_seg; ++j) {
+      const Segment& sg = s_.segments[j];
+      if (!sg.fitted) continue;
+      if (sg.count() >= min_bevel || (sg.count() >= 2 && (is_long(j - 1) || is_long(j + 1)))) bevels_.push_back(j);
+    }
     for (std::size_t qi = 0; qi + 1 < bevels_.size(); ++qi) {
       for (std::size_t qj = qi + 1; qj <= std::min(qi + 2, bevels_.size() - 1); ++qj) {
         vgroove_pair(bevels_[qi], bevels_[qj]);
@@ -667,10 +703,66 @@ class Matcher {
     return out;
   }
 
+  // A bevel segment shorter than min_bevel_points (seen edge-on, thinned by
+  // dropouts) next to its plate top (long segment `top`): refitted through its
+  // points and the points removed as outliers between it and the top that lie
+  // on its line (the island filter removes single bevel points cut off by
+  // dropouts). Empty if fewer than min_short_bevel_points in all.
+  std::optional<Plate> short_bevel(int b, int top) const {
+    const Segment& sb = s_.segments[b];
+    const Segment& st = s_.segments[top];
+    const auto removed =
+        b < top ? outliers_between(sb.last_col, st.first_col) : outliers_between(st.last_col, sb.first_col);
+    PointSums sums = sb.sums;
+    for (const Vec2& o : removed)
+      if (sb.line.distance(o) <= tol_ && st.line.distance(o) > tol_) sums.add(o - s_.ref_);
+    if (sums.n < std::max(2, p_.vgroove.min_short_bevel_points)) return std::nullopt;
+    if (sums.n == sb.count()) return plate_of(sb);
+    const auto f = s_.fit(sums);
+    if (!f) return std::nullopt;
+    return Plate{sb.first, sb.last, f->line, f->centroid};
+  }
+
   void vgroove_pair(int i, int j) {
     const VGrooveParams& vp = p_.vgroove;
     {
-      auto pr = pair_of(i, j);
+      // A short bevel must have its plate top right beside it, on its outer side.
+      const int min_bevel = std::max(2, vp.min_bevel_points);
+      const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
+      const int n_seg = static_cast<int>(s_.segments.size());
+      auto top_at = [&](int k) {
+        return k >= 0 && k < n_seg && s_.segments[k].fitted && s_.segments[k].count() >= s_min ? k : -1;
+      };
+      const bool i_short = s_.segments[i].count() < min_bevel, j_short = s_.segments[j].count() < min_bevel;
+      std::optional<Plate> pi = plate_of(s_.segments[i]), pj = plate_of(s_.segments[j]);
+      if (i_short) pi = top_at(i - 1) >= 0 ? short_bevel(i, i - 1) : std::nullopt;
+      if (j_short) pj = top_at(j + 1) >= 0 ? short_bevel(j, j + 1) : std::nullopt;
+      if (!pi || !pj) return;
+      // Noise can cut a bevel in pieces: a long piece between the bevels on
+      // either one's line is not a root face (the reading that skips it is
+      // wrong), and each bevel extends outwards over the pieces on its line.
+      for (int m = i + 1; m < j; ++m) {
+        const Segment& sm = s_.segments[m];
+        if (sm.fitted && sm.count() >= s_min && (continues(sm, s_.segments[i]) || continues(sm, s_.segments[j])))
+          return;
+      }
+      int i0 = i, j1 = j;
+      auto grow = [&](int k, int dir, std::optional<Plate>& pl) {
+        PointSums sums = s_.segments[k].sums;
+        int first = pl->first, last = pl->last, end = k;
+        for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
+          const Segment& nx = s_.segments[m];
+          if (!nx.fitted || nx.count() < 2 || !same_line(sums, nx.sums)) break;
+          sums += nx.sums;
+          first = std::min(first, nx.first), last = std::max(last, nx.last), end = m;
+        }
+        if (end != k)
+          if (const auto f = s_.fit(sums)) pl = Plate{first, last, f->line, f->centroid};
+        return end;
+      };
+      if (!i_short) i0 = grow(i, -1, pi);
+      if (!j_short) j1 = grow(j, +1, pj);
+      auto pr = pair_of(*pi, *pj);
       if (!pr || !pr->valley) return;
       pr = trimmed(*pr);
       if (!pr || !pr->valley) return;
@@ -682,19 +774,20 @@ class Matcher {
       const double max_tilt = std::sin(30.0 * kDeg);
       std::optional<Plate> tl, tr;
       for (int q = n_long() - 1; q >= 0; --q) {
-        if (longs_[q] >= i) continue;
-        if (const auto t = pair_of(longs_[q], i);
+        if (longs_[q] >= i0) continue;
+        if (const auto t = pair_of(plate_of(s_.segments[longs_[q]]), bl);
             t && !t->valley && std::abs(t->a.line.direction().dot(bisector)) < max_tilt)
           tl = t->a;
         break;
       }
       for (int q = 0; q < n_long(); ++q) {
-        if (longs_[q] <= j) continue;
-        if (const auto t = pair_of(j, longs_[q]);
+        if (longs_[q] <= j1) continue;
+        if (const auto t = pair_of(br, plate_of(s_.segments[longs_[q]]));
             t && !t->valley && std::abs(t->b.line.direction().dot(bisector)) < max_tilt)
           tr = t->b;
         break;
       }
+      if ((i_short && !tl) || (j_short && !tr)) return;
       const int from = bl.last + 1, to = br.first - 1;
       Edge el{pr->x, 0.0}, er{pr->x, 0.0};
       // Bevels that meet between two neighbouring rays are a closed root; a run

@@ -204,6 +204,29 @@ TEST_CASE("corner: apex and angle; nearly collinear faces", "[tracker][corner]")
   CHECK(r.reason.rfind("too few segments", 0) == 0);
 }
 
+TEST_CASE("corner: a dropout just before a plate edge does not move the edge", "[tracker][corner]") {
+  // A square corner with a 1 mm gap: the plates' outer edges at (-0.5, 100)
+  // and (0.5, 100), their square end faces meeting at (0, 100.5) (the notch).
+  const Vec2 el(-0.5, 100), er(0.5, 100), notch(0, 100.5);
+  const Vec2 up_left = synth::dir_deg(135.0), up_right = synth::dir_deg(45.0);
+  auto p = synth::sample({{el + 80.0 * up_left, el}, {el, notch}, {notch, er}, {er, er + 80.0 * up_right}});
+  // The last column on the first face, and a dropout three columns before it:
+  // the face's segment ends at the dropout, and its last two points join the
+  // notch's short segment.
+  int last = 0;
+  while (p.y[last + 1] < el.x()) ++last;
+  p.invalidate(last - 2, last - 2);
+  const auto r = track(p, tk::JointType::Corner);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double s = spacing_at(100.0) / std::sin(std::numbers::pi / 4);  // along a face
+  CHECK((*r.break_points[1] - el).norm() < s);
+  CHECK((*r.break_points[3] - er).norm() < s);
+  CHECK(r.gap_mm == Approx(1.0).margin(2 * s));
+  CHECK((*r.track_point - Vec2(0, 100)).norm() < s);
+  CHECK(r.angle_deg == Approx(90.0).margin(1e-3));
+}
+
 TEST_CASE("butt: gap and mismatch between two plates", "[tracker][butt]") {
   for (double mismatch : {0.0, 1.0}) {
     for (double gap : {0.0, 0.3, 1.0, 2.5}) {
@@ -277,6 +300,42 @@ TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
   CHECK((*r.track_point - root).norm() < 1e-3);
   CHECK(r.gap_mm == Approx(0.0).margin(1e-6));
   CHECK(r.depth_mm == Approx(10.0).margin(1e-3));
+}
+
+TEST_CASE("v-groove: a bevel seen edge-on with three points left after dropouts", "[tracker][vgroove]") {
+  // 8 mm deep, 1 mm root opening; the first bevel at 30 degrees from the
+  // plate normal, the second one nearly along the rays (7 degrees): few columns
+  // see it.
+  const double depth = 8.0;
+  const Vec2 lr(-0.5, 100), rr(0.5, 100);
+  const Vec2 lt = lr + Vec2(-depth * std::tan(std::numbers::pi / 6), -depth);
+  const Vec2 rt = rr + Vec2(depth * std::tan(7.0 * std::numbers::pi / 180), -depth);
+  auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
+                          {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}});
+  std::vector<int> bevel;  // the columns that see the second bevel, root first
+  const tk::Line bl{Vec2(rt.y() - rr.y(), rr.x() - rt.x()).normalized(), 0.0};
+  for (int i = 0; i < p.size(); ++i) {
+    const Vec2 q(p.y[i], p.z[i]);
+    if (p.valid[i] && std::abs(bl.n.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 92 + 1e-3)
+      bevel.push_back(i);
+  }
+  REQUIRE(bevel.size() >= 6);
+  // Dropouts leave three points and, one column further, a last one next to
+  // the plate top (cut off on both sides: removed as an outlier island).
+  const int n = static_cast<int>(bevel.size());
+  for (int k = 0; k < n - 5; ++k) p.invalidate(bevel[k], bevel[k]);
+  p.invalidate(bevel[n - 2], bevel[n - 2]);
+  const auto r = track(p, tk::JointType::VGroove);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double a = (lt - lr).normalized().dot((rt - rr).normalized());
+  CHECK(r.angle_deg == Approx(std::acos(a) * 180.0 / std::numbers::pi).margin(1e-3));
+  CHECK((*r.break_points[5] - rt).norm() < 1e-3);  // the top edge: the lines meet
+  CHECK(std::abs(bl.n.dot(*r.break_points[4] - rr)) < 1e-3);  // its root edge: on it, in the dropouts
+  // With fewer points than min_short_bevel_points the bevel is not read.
+  tk::TrackerParams strict;
+  strict.vgroove.min_short_bevel_points = 5;
+  CHECK(track(p, tk::JointType::VGroove, strict).status == tk::TrackStatus::Rejected);
 }
 
 TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap]") {
