@@ -96,6 +96,11 @@ struct ButtParams {
   Range gap_mm{0.0, 5.0};
   Range mismatch_mm{0.0, 3.0};
   double max_plate_angle_deg = 15.0;  // the two plates must be this close to parallel
+  // On noisy profiles missing columns with both plates' ends on one line are
+  // weak evidence of a gap (a dropout looks the same), unless the rays found
+  // nothing over a run of at least this many consecutive columns: dropouts on
+  // a plate are isolated columns.
+  int min_hole_columns = 2;
 };
 
 struct VGrooveParams {

@@ -544,12 +544,42 @@ class Matcher {
     }
   }
 
-  // `strong`: invalid columns or a jump separate the plates (rather than only
-  // points off their lines, which noise can fake); such readings rank first.
-  void butt_pair(const Plate& a, const Plate& b, int from, int to, bool strong) {
+  // Longest run of consecutive invalid columns strictly between columns a < b.
+  int invalid_run(int a, int b) const {
+    int best = 0, run = 0;
+    for (int c = a + 1; c < b; ++c) {
+      run = s_.column_state[c] == kColumnInvalid ? run + 1 : 0;
+      best = std::max(best, run);
+    }
+    return best;
+  }
+
+  // `evidence` 1: invalid columns, a jump or walls separate the plates
+  // (rather than only points off their lines, which noise can fake); such
+  // readings rank first (see evidence()).
+  void butt_pair(const Plate& a, const Plate& b, int from, int to, int evidence) {
     const ButtParams& bp = p_.butt;
     if (acute_angle_deg(a.line, b.line) > bp.max_plate_angle_deg) return;
-    // Points removed as outliers between the plates may be the gap's walls.
+    // Rays into a gap go behind the plates: points between them (kept or
+    // removed as outliers) in front of both plates are no gap, nor are points
+    // off both lines that lie on a line along the plates (a reflection
+    // cluster: a few points displaced along their rays by one offset). Walls
+    // are square to the plates.
+    if (s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) == 0)
+      for (const Vec2& o : outliers_between(s_.cols[a.last], s_.cols[b.first]))
+        if (a.line.signed_distance(o) > tol_ && b.line.signed_distance(o) > tol_) return;
+    if (from <= to) {
+      bool all_off = true;
+      for (int i = from; i <= to; ++i) {
+        if (a.line.signed_distance(pt(i)) > tol_ && b.line.signed_distance(pt(i)) > tol_) return;
+        all_off = all_off && a.line.distance(pt(i)) > tol_ && b.line.distance(pt(i)) > tol_;
+      }
+      if (to > from) {
+        const auto f = s_.fit(from, to);
+        const double ang = f ? acute_angle_deg(f->line, a.line) : 90.0;
+        if (all_off && ang >= 45.0) evidence = 1;  // walls seen in the gap
+      }
+    }
     const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
     const Edge el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to), removed);
     const Edge er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to), removed);
@@ -567,9 +597,32 @@ class Matcher {
     c.bp[2] = c.track;
     c.bp[3] = er.point;
     c.bp[4] = outer(b, pt(b.last));
-    c.score = (strong ? 1e6 : 0.0) + c.gap + c.mismatch;
+    c.score = 1e6 * evidence + c.gap + c.mismatch;
     c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
     offer(c);
+  }
+
+  // The last of the consecutive points from `end` on, stepping by `step` (not
+  // reaching `stop`), that lie on line l (within the surface tolerance).
+  int reach(const Line& l, int end, int step, int stop) const {
+    for (int i = end + step; i != stop && l.distance(pt(i)) <= tol_; i += step) end = i;
+    return end;
+  }
+
+  // Evidence (see butt_pair) that plates a and b, whose facing end points are
+  // a_end and b_end, are separated; `missing`: invalid columns or a jump lie
+  // between them. Missing columns with both sides on one line and nothing
+  // seen between them are strong evidence only on clean profiles: on noisy
+  // ones a dropout (or points removed as outliers) looks the same, unless
+  // the rays found nothing over a run of min_hole_columns (dropouts on a
+  // plate are isolated columns).
+  int evidence(const Plate& a, const Plate& b, int a_end, int b_end, bool missing) const {
+    if (!missing) return 0;
+    if (b_end != a_end + 1 || b.line.distance(pt(a_end)) > tol_ || a.line.distance(pt(b_end)) > tol_) return 1;
+    if (invalid_run(s_.cols[a_end], s_.cols[b_end]) >= std::max(1, p_.butt.min_hole_columns)) return 1;
+    const auto fa = s_.fit(a.first, a.last), fb = s_.fit(b.first, b.last);
+    const bool noisy = fa && fb && std::max(fa->rms_mm, fb->rms_mm) > 0.25 * tol_;
+    return noisy ? 0 : 1;
   }
 
   void butt() {
@@ -578,15 +631,24 @@ class Matcher {
     // edge face) with something between them...
     for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
       for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
-        const Plate a = extended(q1, -1), b = extended(q2, +1);
+        Plate a = extended(q1, -1), b = extended(q2, +1);
         if (!near_enough(a, b)) continue;
         if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
+        // Each plate reaches over the consecutive points between them that lie
+        // on its line (within the surface tolerance): noise cuts a far plate
+        // into pieces too short to be segments.
+        a.last = reach(a.line, a.last, +1, b.first);
+        b.first = reach(b.line, b.first, -1, a.last);
         // Something between them off both lines (walls in the gap), missing
         // columns, or a jump; a few noisy points on the plates' line are not a gap.
         bool strong = s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) > 0;
-        for (int k = a.last; k < b.first && !strong; ++k) strong = s_.cuts[k];
+        // A jump counts when the step leaves the plates' surface (across
+        // the plates by more than the tolerance): noise alone can make a
+        // step long enough to cut the profile, along the surface.
+        for (int k = a.last; k < b.first && !strong; ++k)
+          strong = s_.cuts[k] && std::abs(a.line.n.dot(pt(k + 1) - pt(k))) > tol_;
         if (strong || off_both(a.last + 1, b.first - 1, a.line, b.line))
-          butt_pair(a, b, a.last + 1, b.first - 1, strong);
+          butt_pair(a, b, a.last + 1, b.first - 1, evidence(a, b, a.last, b.first, strong));
       }
     }
     // ...or one segment with a hole or a step in it (plates merged across the
@@ -648,8 +710,7 @@ class Matcher {
         // Missing columns with both sides on one line are strong evidence only
         // on clean profiles: on noisy ones a dropout looks the same.
         const bool missing = s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1;
-        const bool dropout_like = e == k + 1 && on_line && sg.rms_mm > 0.25 * tol_;
-        if (a && b) butt_pair(*a, *b, k + 1, e - 1, missing && !dropout_like);
+        if (a && b) butt_pair(*a, *b, k + 1, e - 1, evidence(*a, *b, k, e, missing));
       }
     }
   }
