@@ -139,17 +139,20 @@ void check_gl(const char* what) {
 // with their planes and the hierarchy that finds them.
 struct PreparedMesh {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();
-  std::vector<double> planes;  // (nx, ny, nz, w) per kept triangle, centred world mm
   MeshBvh bvh;                 // over the kept triangles (corners in the centred frame)
+  // (nx, ny, nz, w) per hierarchy entry (kept triangles in the hierarchy's
+  // leaf order: neighbours in space are neighbours in memory), centred world
+  // mm. Entries are what the workers pass around and draw.
+  std::vector<double> planes;
   // Every edge of the kept triangles is used once in each direction: the
   // mesh bounds solids with consistent winding, so a triangle that faces away
   // from the laser is always behind one that faces it (from outside).
   bool closed = false;
 
-  // Kept triangle t faces the point p (centred world): p lies strictly on
+  // Hierarchy entry e faces the point p (centred world): p lies strictly on
   // the outward side of its plane.
-  bool faces(std::uint32_t t, const Eigen::Vector3d& p) const {
-    const double* plane = &planes[4 * std::size_t(t)];
+  bool faces(std::uint32_t e, const Eigen::Vector3d& p) const {
+    const double* plane = &planes[4 * std::size_t(e)];
     return plane[0] * p.x() + plane[1] * p.y() + plane[2] * p.z() > plane[3];
   }
 };
@@ -215,6 +218,10 @@ PreparedMesh prepare(const Mesh& mesh) {
   }
   out.closed = closed_and_oriented(indices);
   out.bvh = MeshBvh(positions, indices);
+  std::vector<double> by_entry(out.planes.size());
+  for (std::uint32_t e = 0; e < out.bvh.triangle_count(); ++e)
+    std::copy_n(&out.planes[4 * std::size_t(out.bvh.triangle(e))], 4, &by_entry[4 * std::size_t(e)]);
+  out.planes = std::move(by_entry);
   return out;
 }
 
@@ -229,10 +236,10 @@ struct SharedScene {
 };
 
 // One vertex of the per-pass stream: a triangle corner, and the row (profile
-// of the pass) and mesh triangle it is drawn for.
+// of the pass) and the hierarchy entry of the triangle it is drawn for.
 struct StreamVertex {
   float x, y, z;
-  std::uint32_t row, triangle;
+  std::uint32_t row, entry;
 };
 static_assert(sizeof(StreamVertex) == 20);
 
@@ -434,10 +441,9 @@ class ShadowTester {
     // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
     const double* image_col = image_col_.data();
     for (std::uint32_t e : candidates_) {
-      const std::uint32_t t = s_.mesh.bvh.triangle(e);
       // A sight line into a closed solid enters it through a face turned
       // towards the camera; the others need no test.
-      if (s_.mesh.closed && !s_.mesh.faces(t, camera_w_)) continue;
+      if (s_.mesh.closed && !s_.mesh.faces(e, camera_w_)) continue;
       const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
       const Eigen::Vector3d pa(k[0], k[1], k[2]), pb(k[3], k[4], k[5]), pc(k[6], k[7], k[8]);
       // The sight lines that can cross the triangle: a crossing point lies
@@ -596,7 +602,7 @@ class Worker {
   // sensor frame, and the triangle.
   struct Segment {
     Eigen::Vector2d p0, p1;
-    std::uint32_t triangle;
+    std::uint32_t entry;  // hierarchy entry of the triangle it was cut from
   };
 
   // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
@@ -605,9 +611,8 @@ class Worker {
   // so the two triangles on an edge produce bit-identical end points and the
   // slice stays watertight.
   void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
-    const std::uint32_t t = s_.mesh.bvh.triangle(e);
     // A face turned away from the laser is hidden behind the solid's front.
-    if (s_.mesh.closed && !s_.mesh.faces(t, origin_c)) return;
+    if (s_.mesh.closed && !s_.mesh.faces(e, origin_c)) return;
     const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
     Eigen::Vector3d v[3];
     for (int k = 0; k < 3; ++k)
@@ -630,7 +635,7 @@ class Worker {
       ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
     }
     if (count < 2 || ends[0] == ends[1]) return;
-    segments_.push_back({ends[0], ends[1], t});
+    segments_.push_back({ends[0], ends[1], e});
   }
 
   // Joins runs of connected, collinear segments of one profile (a flat face
@@ -733,7 +738,7 @@ class Worker {
         p1 = far;
         leave = other ^ 1;
       }
-      joined_.push_back({p0, p1, segments_[first].triangle});
+      joined_.push_back({p0, p1, segments_[first].entry});
     }
     segments_.swap(joined_);
   }
@@ -751,7 +756,7 @@ class Worker {
     const float d1 = static_cast<float>(kNearClipMm / p1.y());
     const float y_lo = static_cast<float>(2.0 * row / rows - 1.0);
     const float y_hi = static_cast<float>(2.0 * (row + 1) / rows - 1.0);
-    const std::uint32_t t = g.triangle;
+    const std::uint32_t t = g.entry;
     stream_.push_back({x0, y_lo, d0, row, t});
     stream_.push_back({x1, y_lo, d1, row, t});
     stream_.push_back({x1, y_hi, d1, row, t});
