@@ -230,6 +230,7 @@ struct SharedScene {
   ScannerDesc desc;
   std::vector<Eigen::Vector3f> directions;  // sensor frame, unit, per column
   std::vector<Eigen::Vector3d> directions_d;
+  std::vector<double> dir_x, dir_y, dir_z;  // directions_d by component
   PreparedMesh mesh;
   double tan_half_fan = 0.0;
   Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
@@ -277,6 +278,37 @@ int float_filter(const float* __restrict dx, const float* __restrict dy, const f
   return any;
 }
 
+// The sight lines of every column of a profile (ShadowTester below), in
+// one branch-free loop that vectorizes (cloned like float_filter): D = P - C
+// in the sensor frame with P = range * direction, its depth z' = D . za and
+// image coordinates x'/z' (q) and y'/z' (image_col) as seen from C, D in the
+// world frame (R D), and tmax = 1 - eps / |D|. Meaningless for unlit columns.
+struct SightFrame {
+  double cx, cy, cz, xax, xay, xaz, zax, zay, zaz;
+  double r[9];  // row-major
+};
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#endif
+void sight_lines(int n, const float* __restrict range, const double* __restrict dir_x,
+                 const double* __restrict dir_y, const double* __restrict dir_z, const SightFrame f,
+                 double* __restrict zc, double* __restrict q, double* __restrict image_col,
+                 double* __restrict wx, double* __restrict wy, double* __restrict wz,
+                 double* __restrict tmax) {
+  for (int i = 0; i < n; ++i) {
+    const double rg = range[i];
+    const double x = rg * dir_x[i] - f.cx, y = rg * dir_y[i] - f.cy, z = rg * dir_z[i] - f.cz;
+    const double depth = x * f.zax + y * f.zay + z * f.zaz;
+    zc[i] = depth;
+    q[i] = (x * f.xax + y * f.xay + z * f.xaz) / depth;
+    image_col[i] = y / depth;
+    wx[i] = f.r[0] * x + f.r[1] * y + f.r[2] * z;
+    wy[i] = f.r[3] * x + f.r[4] * y + f.r[5] * z;
+    wz[i] = f.r[6] * x + f.r[7] * y + f.r[8] * z;
+    tmax[i] = 1.0 - kShadowEpsilonMm / std::sqrt(x * x + y * y + z * z);
+  }
+}
+
 // The camera-shadow test of one profile, on the CPU. Sight lines run from
 // the camera centre C to the lit points; the lit points are split into runs
 // whose sight lines lie close to one plane (a Douglas-Peucker split of the
@@ -306,6 +338,7 @@ class ShadowTester {
     image_col_.resize(n);
     q_.resize(n);
     zc_.resize(n);
+    for (auto* v : {&all_zc_, &all_q_, &all_image_col_, &all_wx_, &all_wy_, &all_wz_, &all_tmax_}) v->resize(n);
   }
 
   // Clears out.camera_visible where a triangle hides the lit point from the
@@ -319,26 +352,29 @@ class ShadowTester {
     // Sight lines D = P - C of the lit points in front of the camera, in
     // column order, with their image coordinates as seen from C: column
     // y'/z' and row x'/z' (constant along a sight line).
+    SightFrame frame{c.x(), c.y(), c.z(), xa_.x(), xa_.y(), xa_.z(), za_.x(), za_.y(), za_.z(), {}};
+    for (int k = 0; k < 9; ++k) frame.r[k] = r(k / 3, k % 3);
+    sight_lines(n, out.range_mm.data(), s_.dir_x.data(), s_.dir_y.data(), s_.dir_z.data(), frame,
+                all_zc_.data(), all_q_.data(), all_image_col_.data(), all_wx_.data(), all_wy_.data(),
+                all_wz_.data(), all_tmax_.data());
+    // The lit points in front of the camera (the others have no sight line
+    // to test), in column order.
     int m = 0;
     for (int i = 0; i < n; ++i) {
-      if (!out.valid[i]) continue;
-      const Eigen::Vector3d d = double(out.range_mm[i]) * s_.directions_d[i] - c;
-      const double zc = d.dot(za_);
-      if (!(zc > 0.0)) continue;  // not in front of the camera: no sight line to test
+      if (!out.valid[i] || !(all_zc_[i] > 0.0)) continue;
       column_[m] = i;
-      zc_[m] = zc;
-      q_[m] = d.dot(xa_) / zc;
-      image_col_[m] = d.y() / zc;
+      zc_[m] = all_zc_[i];
+      q_[m] = all_q_[i];
+      image_col_[m] = all_image_col_[i];
       // The candidates are tested in the mesh-centred world frame, where
       // the hierarchy keeps their corners: no transform per candidate.
-      const Eigen::Vector3d dw = r * d;
-      dx_[m] = static_cast<float>(dw.x());
-      dy_[m] = static_cast<float>(dw.y());
-      dz_[m] = static_cast<float>(dw.z());
-      d_[m] = dw;
+      d_[m] = Eigen::Vector3d(all_wx_[i], all_wy_[i], all_wz_[i]);
+      dx_[m] = static_cast<float>(all_wx_[i]);
+      dy_[m] = static_cast<float>(all_wy_[i]);
+      dz_[m] = static_cast<float>(all_wz_[i]);
       // Occluders must cross the sight line before 1 - eps/|D| of the way.
-      tmax_d_[m] = 1.0 - kShadowEpsilonMm / d.norm();
-      tmax_[m] = static_cast<float>(tmax_d_[m]);
+      tmax_d_[m] = all_tmax_[i];
+      tmax_[m] = static_cast<float>(all_tmax_[i]);
       hidden_[m] = 0;
       ++m;
     }
@@ -512,6 +548,8 @@ class ShadowTester {
   std::vector<double> tmax_d_;      // tmax_ in double
   std::vector<double> image_col_;   // y'/z': grows with the column
   std::vector<double> q_, zc_;      // x'/z' and z'
+  // sight_lines' output, per column.
+  std::vector<double> all_zc_, all_q_, all_image_col_, all_wx_, all_wy_, all_wz_, all_tmax_;
   std::array<std::pair<int, int>, 128> runs_{};
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
@@ -946,7 +984,12 @@ class RasterSource final : public ProfileSource {
     SharedScene& s = *scene_;
     s.desc = desc;
     s.directions = column_directions(desc);
-    for (const auto& d : s.directions) s.directions_d.push_back(d.cast<double>());
+    for (const auto& d : s.directions) {
+      s.directions_d.push_back(d.cast<double>());
+      s.dir_x.push_back(s.directions_d.back().x());
+      s.dir_y.push_back(s.directions_d.back().y());
+      s.dir_z.push_back(s.directions_d.back().z());
+    }
     // Column i is the centre of pixel i of an n-wide image whose horizontal
     // half-angle is fan/2 (sensor/rays.h): NDC x = (y/z) / tan(fan/2).
     s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);
