@@ -77,7 +77,33 @@ void BM_Single(benchmark::State& state, bool raster, const std::string& cell_nam
   state.SetItemsProcessed(state.iterations());
 }
 
+// The error model alone on a cell's ideal profiles (computed once).
+void BM_ErrorModel(benchmark::State& state, const std::string& cell_name) {
+  const vts::Cell cell = bench_cell(cell_name);
+  const auto source = make_source(false, cell);
+  std::vector<vts::Pose> poses(kBatch);
+  std::vector<vts::Profile> ideal(kBatch);
+  for (int k = 0; k < kBatch; ++k) poses[k] = cell.path.pose_at(k % 400);
+  source->scan_batch(poses, ideal);
+  vts::Profile measured;
+  vts::ScanState scan_state;
+  scan_state.seed = 7;
+  std::int64_t i = 0;
+  for (auto _ : state) {
+    vts::Profile& p = ideal[i % kBatch];
+    p.index = i;
+    vts::apply_error_model(cell.scanner, p, scan_state, measured);
+    benchmark::DoNotOptimize(measured.z_mm.data());
+    ++i;
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["lit"] = benchmark::Counter(static_cast<double>(scan_state.lit) / scan_state.profiles);
+}
+
 const int registered = [] {
+  for (const char* cell : {"fillet", "static-B"})
+    benchmark::RegisterBenchmark((std::string("BM_ErrorModel/") + cell).c_str(), BM_ErrorModel, std::string(cell))
+        ->Unit(benchmark::kMicrosecond);
   for (const char* cell : {"fillet", "corner", "lap", "butt", "vgroove", "static-B", "fillet-1m"}) {
     for (int threads : {1, 2}) {
       for (bool raster : {true, false}) {

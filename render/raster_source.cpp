@@ -56,15 +56,15 @@ constexpr std::size_t kMinProfilesPerThread = 32;
 // within this of the run's line.
 constexpr double kCollinearMm = 1e-4;
 
-// The camera-shadow test takes the lit columns in groups: one spatial query
-// per group, then every candidate against every column of it. Larger groups
-// mean fewer queries but more candidates per column: on meshes of a few
-// hundred triangles 128 columns per group was fastest, on a 1M-triangle one
-// 32 (docs/PERFORMANCE.md).
-constexpr int kMaxShadowGroup = 128;
-constexpr int kShadowGroupSmallMesh = 128;
-constexpr int kShadowGroupLargeMesh = 32;
-constexpr std::size_t kLargeMeshTriangles = 50'000;
+// The camera-shadow test splits the lit points into runs whose sight lines
+// lie within kShadowSheetMm of one plane (one spatial query per run), runs
+// of kMinShadowRun to kMaxShadowRun points. A candidate triangle crossing
+// more than kFloatFilterColumns sight lines' image columns is tested in
+// float first (docs/PERFORMANCE.md).
+constexpr double kShadowSheetMm = 0.5;
+constexpr int kMinShadowRun = 16;
+constexpr int kMaxShadowRun = 1024;
+constexpr int kFloatFilterColumns = 8;
 
 std::string shader_log(GLuint shader) {
   GLint length = 0;
@@ -139,17 +139,20 @@ void check_gl(const char* what) {
 // with their planes and the hierarchy that finds them.
 struct PreparedMesh {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();
-  std::vector<double> planes;  // (nx, ny, nz, w) per kept triangle, centred world mm
   MeshBvh bvh;                 // over the kept triangles (corners in the centred frame)
+  // (nx, ny, nz, w) per hierarchy entry (kept triangles in the hierarchy's
+  // leaf order: neighbours in space are neighbours in memory), centred world
+  // mm. Entries are what the workers pass around and draw.
+  std::vector<double> planes;
   // Every edge of the kept triangles is used once in each direction: the
   // mesh bounds solids with consistent winding, so a triangle that faces away
   // from the laser is always behind one that faces it (from outside).
   bool closed = false;
 
-  // Kept triangle t faces the point p (centred world): p lies strictly on
+  // Hierarchy entry e faces the point p (centred world): p lies strictly on
   // the outward side of its plane.
-  bool faces(std::uint32_t t, const Eigen::Vector3d& p) const {
-    const double* plane = &planes[4 * std::size_t(t)];
+  bool faces(std::uint32_t e, const Eigen::Vector3d& p) const {
+    const double* plane = &planes[4 * std::size_t(e)];
     return plane[0] * p.x() + plane[1] * p.y() + plane[2] * p.z() > plane[3];
   }
 };
@@ -215,6 +218,10 @@ PreparedMesh prepare(const Mesh& mesh) {
   }
   out.closed = closed_and_oriented(indices);
   out.bvh = MeshBvh(positions, indices);
+  std::vector<double> by_entry(out.planes.size());
+  for (std::uint32_t e = 0; e < out.bvh.triangle_count(); ++e)
+    std::copy_n(&out.planes[4 * std::size_t(out.bvh.triangle(e))], 4, &by_entry[4 * std::size_t(e)]);
+  out.planes = std::move(by_entry);
   return out;
 }
 
@@ -223,34 +230,115 @@ struct SharedScene {
   ScannerDesc desc;
   std::vector<Eigen::Vector3f> directions;  // sensor frame, unit, per column
   std::vector<Eigen::Vector3d> directions_d;
+  std::vector<double> dir_x, dir_y, dir_z;  // directions_d by component
   PreparedMesh mesh;
   double tan_half_fan = 0.0;
   Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
 };
 
 // One vertex of the per-pass stream: a triangle corner, and the row (profile
-// of the pass) and mesh triangle it is drawn for.
+// of the pass) and the hierarchy entry of the triangle it is drawn for.
 struct StreamVertex {
   float x, y, z;
-  std::uint32_t row, triangle;
+  std::uint32_t row, entry;
 };
 static_assert(sizeof(StreamVertex) == 20);
 
-// The camera-shadow test of one profile, on the CPU: the spatial index finds
-// the triangles near the sight lines from the camera centre to a group of lit
-// points, and each candidate is intersected exactly with each sight line.
-// Regions are set up in the sensor frame, the tests run in the mesh-centred
-// world frame where the hierarchy keeps the corners. No allocation once the
-// scratch has grown.
+// The float filter of the camera-shadow test (ShadowTester below): which
+// sight lines j in [j0, j1) may cross the triangle given by its
+// Moeller-Trumbore vectors k = (A, B, Q, tq), with a little slack so that
+// it misses nothing the exact test would find. Branch-free, so the loop
+// vectorizes (cloned for AVX2 and AVX-512 with GCC on x86-64; no FMA
+// contraction in this file, so every clone gives the same answer).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#endif
+int float_filter(const float* __restrict dx, const float* __restrict dy, const float* __restrict dz,
+                 const float* __restrict tmax, int j0, int j1, std::array<float, 10> k,
+                 int* __restrict maybe) {
+  // Slack on the barycentric tests, and on t (a point's own face has t = 1,
+  // which must stay out: 1 > tmax + kSlackT while |D| < 1 m).
+  constexpr float kSlack = 1e-3f, kSlackT = 1e-5f;
+  const float ax = k[0], ay = k[1], az = k[2], bx = k[3], by = k[4], bz = k[5];
+  const float qx = k[6], qy = k[7], qz = k[8], tqf = k[9];
+  int any = 0;
+  for (int j = j0; j < j1; ++j) {
+    const float det = dx[j] * ax + dy[j] * ay + dz[j] * az;
+    const float sign = det < 0.0f ? -1.0f : 1.0f;
+    const float adet = det * sign;
+    const float slack = kSlack * adet;
+    const float un = (dx[j] * bx + dy[j] * by + dz[j] * bz) * sign;
+    const float vn = (dx[j] * qx + dy[j] * qy + dz[j] * qz) * sign;
+    const float tn = tqf * sign;
+    const int hit = int(adet > 0.0f) & int(un >= -slack) & int(vn >= -slack) &
+                    int(un + vn <= adet + slack) & int(tn > -slack) & int(tn < adet * (tmax[j] + kSlackT));
+    maybe[j] = hit;
+    any |= hit;
+  }
+  return any;
+}
+
+// The sight lines of every column of a profile (ShadowTester below), in
+// one branch-free loop that vectorizes (cloned like float_filter): D = P - C
+// in the sensor frame with P = range * direction, its depth z' = D . za and
+// image coordinates x'/z' (q) and y'/z' (image_col) as seen from C, D in the
+// world frame (R D), and tmax = 1 - eps / |D|. Meaningless for unlit columns.
+struct SightFrame {
+  double cx, cy, cz, xax, xay, xaz, zax, zay, zaz;
+  double r[9];  // row-major
+};
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#endif
+void sight_lines(int n, const float* __restrict range, const double* __restrict dir_x,
+                 const double* __restrict dir_y, const double* __restrict dir_z, const SightFrame f,
+                 double* __restrict zc, double* __restrict q, double* __restrict image_col,
+                 double* __restrict wx, double* __restrict wy, double* __restrict wz,
+                 double* __restrict tmax) {
+  for (int i = 0; i < n; ++i) {
+    const double rg = range[i];
+    const double x = rg * dir_x[i] - f.cx, y = rg * dir_y[i] - f.cy, z = rg * dir_z[i] - f.cz;
+    const double depth = x * f.zax + y * f.zay + z * f.zaz;
+    zc[i] = depth;
+    q[i] = (x * f.xax + y * f.xay + z * f.xaz) / depth;
+    image_col[i] = y / depth;
+    wx[i] = f.r[0] * x + f.r[1] * y + f.r[2] * z;
+    wy[i] = f.r[3] * x + f.r[4] * y + f.r[5] * z;
+    wz[i] = f.r[6] * x + f.r[7] * y + f.r[8] * z;
+    tmax[i] = 1.0 - kShadowEpsilonMm / std::sqrt(x * x + y * y + z * z);
+  }
+}
+
+// The camera-shadow test of one profile, on the CPU. Sight lines run from
+// the camera centre C to the lit points; the lit points are split into runs
+// whose sight lines lie close to one plane (a Douglas-Peucker split of the
+// sheet of sight lines: a straight run of points gives a thin sheet), one
+// spatial query per run finds the triangles near its sheet, and each
+// candidate is intersected with the sight lines it can cross: those whose
+// image column (seen from C) lies within the candidate's, found by binary
+// search since image columns grow with profile columns. Regions are set up
+// in the sensor frame, the tests run in the mesh-centred world frame where
+// the hierarchy keeps the corners. No allocation once the scratch has grown.
 class ShadowTester {
  public:
-  explicit ShadowTester(const SharedScene& scene)
-      : s_(scene),
-        group_(scene.mesh.bvh.triangle_count() >= kLargeMeshTriangles ? kShadowGroupLargeMesh
-                                                                 : kShadowGroupSmallMesh) {
+  explicit ShadowTester(const SharedScene& scene) : s_(scene) {
     const Eigen::Vector3d c = s_.camera_mm;
     xa_ = c.normalized();
     za_ = xa_.cross(Eigen::Vector3d::UnitY());
+    const std::size_t n = static_cast<std::size_t>(s_.desc.points);
+    column_.resize(n);
+    dx_.resize(n);
+    dy_.resize(n);
+    dz_.resize(n);
+    tmax_.resize(n);
+    hidden_.resize(n);
+    maybe_.resize(n);
+    d_.resize(n);
+    tmax_d_.resize(n);
+    image_col_.resize(n);
+    q_.resize(n);
+    zc_.resize(n);
+    for (auto* v : {&all_zc_, &all_q_, &all_image_col_, &all_wx_, &all_wy_, &all_wz_, &all_tmax_}) v->resize(n);
   }
 
   // Clears out.camera_visible where a triangle hides the lit point from the
@@ -258,161 +346,211 @@ class ShadowTester {
   void apply(const Eigen::Matrix3d& r, const Eigen::Vector3d& origin_c, Profile& out) {
     const int n = s_.desc.points;
     const Eigen::Vector3d c = s_.camera_mm;
-    const Eigen::Vector3d camera_c = r * c + origin_c;  // mesh-centred world
-    for (int g0 = 0; g0 < n; g0 += group_) {
-      const int g1 = std::min(n, g0 + group_);
-      // Sight lines D = P - C of the group's lit points, and their extent as
-      // seen from the camera: x'/z' (the same all along a sight line) and z'.
-      int m = 0;
-      double q_lo = std::numeric_limits<double>::infinity(), q_hi = -q_lo, zc_max = 0.0;
-      for (int i = g0; i < g1; ++i) {
-        if (!out.valid[i]) continue;
-        const Eigen::Vector3d d = double(out.range_mm[i]) * s_.directions_d[i] - c;
-        const double zc = d.dot(za_);
-        if (!(zc > 0.0)) continue;  // not in front of the camera: no sight line to test
-        const double q = d.dot(xa_) / zc;
-        q_lo = std::min(q_lo, q);
-        q_hi = std::max(q_hi, q);
-        zc_max = std::max(zc_max, zc);
-        column_[m] = i;
-        // The candidates are tested in the mesh-centred world frame, where
-        // the hierarchy keeps their corners: no transform per candidate.
-        const Eigen::Vector3d dw = r * d;
-        dx_[m] = static_cast<float>(dw.x());
-        dy_[m] = static_cast<float>(dw.y());
-        dz_[m] = static_cast<float>(dw.z());
-        d_[m] = dw;
-        // Occluders must cross the sight line before 1 - eps/|D| of the way.
-        tmax_d_[m] = 1.0 - kShadowEpsilonMm / d.norm();
-        tmax_[m] = static_cast<float>(tmax_d_[m]);
-        hidden_[m] = 0;
-        ++m;
-      }
-      if (m == 0) continue;
-      for (int j = m; j < group_; ++j) {
-        dx_[j] = dy_[j] = dz_[j] = 0.0f;
-        tmax_[j] = -1.0f;
-        hidden_[j] = 0;
-      }
+    camera_w_ = r * c + origin_c;  // mesh-centred world
+    za_w_ = r * za_;
+    ya_w_ = r.col(1);
+    // Sight lines D = P - C of the lit points in front of the camera, in
+    // column order, with their image coordinates as seen from C: column
+    // y'/z' and row x'/z' (constant along a sight line).
+    SightFrame frame{c.x(), c.y(), c.z(), xa_.x(), xa_.y(), xa_.z(), za_.x(), za_.y(), za_.z(), {}};
+    for (int k = 0; k < 9; ++k) frame.r[k] = r(k / 3, k % 3);
+    sight_lines(n, out.range_mm.data(), s_.dir_x.data(), s_.dir_y.data(), s_.dir_z.data(), frame,
+                all_zc_.data(), all_q_.data(), all_image_col_.data(), all_wx_.data(), all_wy_.data(),
+                all_wz_.data(), all_tmax_.data());
+    // The lit points in front of the camera (the others have no sight line
+    // to test), in column order.
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      if (!out.valid[i] || !(all_zc_[i] > 0.0)) continue;
+      column_[m] = i;
+      zc_[m] = all_zc_[i];
+      q_[m] = all_q_[i];
+      image_col_[m] = all_image_col_[i];
+      // The candidates are tested in the mesh-centred world frame, where
+      // the hierarchy keeps their corners: no transform per candidate.
+      d_[m] = Eigen::Vector3d(all_wx_[i], all_wy_[i], all_wz_[i]);
+      dx_[m] = static_cast<float>(all_wx_[i]);
+      dy_[m] = static_cast<float>(all_wy_[i]);
+      dz_[m] = static_cast<float>(all_wz_[i]);
+      // Occluders must cross the sight line before 1 - eps/|D| of the way.
+      tmax_d_[m] = all_tmax_[i];
+      tmax_[m] = static_cast<float>(all_tmax_[i]);
+      hidden_[m] = 0;
+      ++m;
+    }
+    if (m == 0) return;
 
-      // The region holding every sight line of the group (sensor frame,
-      // kept where n.p + w >= 0): between the epipolar planes of the group's
-      // first and last columns (planes through the camera centre and the
-      // laser origin), between the camera's directions to the extreme points
-      // (x'/z' = q), in front of the camera and no deeper than the deepest
-      // point. Each plane is moved kCullMarginMm outwards.
-      int np = 0;
-      auto add = [&](const Eigen::Vector3d& normal, double w) {
-        const double len = normal.norm();
-        if (!(len > 0.0)) return;
-        planes_s_[np++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), w + kCullMarginMm * len);
-      };
-      const Eigen::Vector3d& d0 = s_.directions_d[g0];
-      const Eigen::Vector3d& d1 = s_.directions_d[g1 - 1];
-      Eigen::Vector3d e0 = c.cross(d0), e1 = c.cross(d1);
-      if (e0.dot(d1) < 0.0) e0 = -e0;
-      if (e1.dot(d0) < 0.0) e1 = -e1;
-      add(e0, 0.0);  // both planes pass through the laser origin
-      add(e1, 0.0);
-      const Eigen::Vector3d lo_n = xa_ - q_lo * za_, hi_n = q_hi * za_ - xa_;
-      add(lo_n, -lo_n.dot(c));
-      add(hi_n, -hi_n.dot(c));
-      add(za_, -za_.dot(c));
-      add(-za_, za_.dot(c) + zc_max);
-      // Into the mesh-centred world frame: p_s = R^T (p_c - o_c).
-      for (int k = 0; k < np; ++k) {
-        const Eigen::Vector3d nw = r * planes_s_[k].head<3>();
-        planes_w_[k] = Eigen::Vector4d(nw.x(), nw.y(), nw.z(), planes_s_[k][3] - nw.dot(origin_c));
-      }
-      // And around the sheet of sight lines: the plane through c and the
-      // first and last points, thickened by the farthest point's distance
-      // from it (a point at s along a sight line is s times as far). For a
-      // straight run of points the sheet is thin, and so is the candidate
-      // set.
-      if (m >= 2) {
-        Eigen::Vector3d sheet = d_[m - 1].cross(d_[0]);
+    // Runs [a, b], split at the point farthest from the sheet through C and
+    // the run's end points while that is farther than kShadowSheetMm (and
+    // the run is longer than kMinShadowRun), and at most kMaxShadowRun long.
+    int top = 0;
+    runs_[top++] = {0, m - 1};
+    while (top > 0) {
+      const auto [a, b] = runs_[--top];
+      Eigen::Vector3d sheet = Eigen::Vector3d::Zero();
+      double dev = 0.0;
+      int far = a;
+      if (b > a) {
+        sheet = d_[b].cross(d_[a]);
         const double len = sheet.norm();
         if (len > 0.0) {
           sheet /= len;
-          double dev = 0.0;
-          for (int j = 0; j < m; ++j) dev = std::max(dev, std::abs(sheet.dot(d_[j])));
-          const double w = -sheet.dot(camera_c) + dev + kCullMarginMm;
-          planes_w_[np++] = Eigen::Vector4d(sheet.x(), sheet.y(), sheet.z(), w);
-          planes_w_[np++] = Eigen::Vector4d(-sheet.x(), -sheet.y(), -sheet.z(),
-                                            sheet.dot(camera_c) + dev + kCullMarginMm);
-        }
-      }
-      candidates_.clear();
-      s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
-
-      // Moeller-Trumbore with the common origin C: per triangle the vectors
-      // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
-      // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
-      // First in float over the whole group, branch-free so the compiler
-      // vectorizes it, with a little slack so it misses nothing; then every
-      // candidate hit again in double. Float alone is not enough: a face the
-      // camera sees almost edge-on puts the crossing with the point's own
-      // face a few hundredths of a millimetre off the point.
-      for (std::uint32_t e : candidates_) {
-        const std::uint32_t t = s_.mesh.bvh.triangle(e);
-        // A sight line into a closed solid enters it through a face turned
-        // towards the camera; the others need no test.
-        if (s_.mesh.closed && !s_.mesh.faces(t, camera_c)) continue;
-        const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
-        const Eigen::Vector3d a(k[0], k[1], k[2]), b(k[3], k[4], k[5]), cc(k[6], k[7], k[8]);
-        const Eigen::Vector3d e1v = b - a, e2v = cc - a, tv = camera_c - a;
-        const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
-        const double tq = e2v.dot(qv);
-        const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
-        const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
-        const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
-        // Slack on the barycentric tests, and on t (a point's own face has
-        // t = 1, which must stay out: 1 > tmax + kSlackT while |D| < 1 m).
-        constexpr float kSlack = 1e-3f, kSlackT = 1e-5f;
-        int any = 0;
-        for (int j = 0; j < group_; ++j) {
-          const float det = dx_[j] * ax + dy_[j] * ay + dz_[j] * az;
-          const float sign = det < 0.0f ? -1.0f : 1.0f;
-          const float adet = det * sign;
-          const float slack = kSlack * adet;
-          const float un = (dx_[j] * bx + dy_[j] * by + dz_[j] * bz) * sign;
-          const float vn = (dx_[j] * qx + dy_[j] * qy + dz_[j] * qz) * sign;
-          const float tn = tqf * sign;
-          const int maybe = int(adet > 0.0f) & int(un >= -slack) & int(vn >= -slack) &
-                            int(un + vn <= adet + slack) & int(tn > -slack) &
-                            int(tn < adet * (tmax_[j] + kSlackT));
-          maybe_[j] = maybe;
-          any |= maybe;
-        }
-        if (!any) continue;
-        for (int j = 0; j < m; ++j) {
-          if (!maybe_[j] || hidden_[j]) continue;
-          const Eigen::Vector3d& d = d_[j];
-          double det = d.dot(av), un = d.dot(bv), vn = d.dot(qv), tn = tq;
-          if (det < 0.0) {
-            det = -det;
-            un = -un;
-            vn = -vn;
-            tn = -tn;
+          for (int j = a; j <= b; ++j) {
+            const double e = std::abs(sheet.dot(d_[j]));
+            if (e > dev) {
+              dev = e;
+              far = j;
+            }
           }
-          hidden_[j] = det > 0.0 && un >= 0.0 && vn >= 0.0 && un + vn <= det && tn > 0.0 &&
-                       tn < det * tmax_d_[j];
+        } else {
+          dev = std::numeric_limits<double>::infinity();  // D_a, D_b parallel: no sheet plane
+          far = (a + b) / 2;
         }
       }
-      for (int j = 0; j < m; ++j)
-        if (hidden_[j]) out.camera_visible[column_[j]] = 0;
+      const int count = b - a + 1;
+      if (top + 2 <= static_cast<int>(runs_.size()) &&
+          (count > kMaxShadowRun || (dev > kShadowSheetMm && count > kMinShadowRun))) {
+        const int split = count > kMaxShadowRun || far <= a || far >= b ? a + count / 2 : far;
+        runs_[top++] = {split, b};
+        runs_[top++] = {a, split - 1};
+        continue;
+      }
+      test_run(a, b, sheet, dev, r, origin_c);
     }
+    for (int j = 0; j < m; ++j)
+      if (hidden_[j]) out.camera_visible[column_[j]] = 0;
   }
 
  private:
+  void test_run(int a, int b, const Eigen::Vector3d& sheet, double dev, const Eigen::Matrix3d& r,
+                const Eigen::Vector3d& origin_c) {
+    const Eigen::Vector3d c = s_.camera_mm;
+    double q_lo = std::numeric_limits<double>::infinity(), q_hi = -q_lo, zc_max = 0.0;
+    for (int j = a; j <= b; ++j) {
+      q_lo = std::min(q_lo, q_[j]);
+      q_hi = std::max(q_hi, q_[j]);
+      zc_max = std::max(zc_max, zc_[j]);
+    }
+    // The region holding every sight line of the run (sensor frame, kept
+    // where n.p + w >= 0): between the epipolar planes of its first and last
+    // columns (planes through the camera centre and the laser origin),
+    // between the camera's directions to the extreme points (x'/z' = q), in
+    // front of the camera and no deeper than the deepest point. Each plane
+    // is moved kCullMarginMm outwards.
+    int np = 0;
+    auto add = [&](const Eigen::Vector3d& normal, double w) {
+      const double len = normal.norm();
+      if (!(len > 0.0)) return;
+      planes_s_[np++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), w + kCullMarginMm * len);
+    };
+    const Eigen::Vector3d& d0 = s_.directions_d[column_[a]];
+    const Eigen::Vector3d& d1 = s_.directions_d[column_[b]];
+    Eigen::Vector3d e0 = c.cross(d0), e1 = c.cross(d1);
+    if (e0.dot(d1) < 0.0) e0 = -e0;
+    if (e1.dot(d0) < 0.0) e1 = -e1;
+    add(e0, 0.0);  // both planes pass through the laser origin
+    add(e1, 0.0);
+    const Eigen::Vector3d lo_n = xa_ - q_lo * za_, hi_n = q_hi * za_ - xa_;
+    add(lo_n, -lo_n.dot(c));
+    add(hi_n, -hi_n.dot(c));
+    add(za_, -za_.dot(c));
+    add(-za_, za_.dot(c) + zc_max);
+    // Into the mesh-centred world frame: p_s = R^T (p_c - o_c).
+    for (int k = 0; k < np; ++k) {
+      const Eigen::Vector3d nw = r * planes_s_[k].head<3>();
+      planes_w_[k] = Eigen::Vector4d(nw.x(), nw.y(), nw.z(), planes_s_[k][3] - nw.dot(origin_c));
+    }
+    // And around the sheet of sight lines (world frame already), thickened
+    // by the farthest point's distance from it (a point at s along a sight
+    // line is s times as far).
+    if (b > a && std::isfinite(dev) && sheet.squaredNorm() > 0.0) {
+      const double w = -sheet.dot(camera_w_) + dev + kCullMarginMm;
+      planes_w_[np++] = Eigen::Vector4d(sheet.x(), sheet.y(), sheet.z(), w);
+      planes_w_[np++] = Eigen::Vector4d(-sheet.x(), -sheet.y(), -sheet.z(),
+                                        sheet.dot(camera_w_) + dev + kCullMarginMm);
+    }
+    candidates_.clear();
+    s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
+
+    // Moeller-Trumbore with the common origin C: per triangle the vectors
+    // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
+    // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
+    const double* image_col = image_col_.data();
+    for (std::uint32_t e : candidates_) {
+      // A sight line into a closed solid enters it through a face turned
+      // towards the camera; the others need no test.
+      if (s_.mesh.closed && !s_.mesh.faces(e, camera_w_)) continue;
+      const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
+      const Eigen::Vector3d pa(k[0], k[1], k[2]), pb(k[3], k[4], k[5]), pc(k[6], k[7], k[8]);
+      // The sight lines that can cross the triangle: a crossing point lies
+      // in front of C, on the sight line's image column, and inside the
+      // triangle, whose image (when all of it is in front) spans the
+      // corners' image columns.
+      int j0 = a, j1 = b + 1;
+      {
+        const Eigen::Vector3d va = pa - camera_w_, vb = pb - camera_w_, vc = pc - camera_w_;
+        const double za = va.dot(za_w_), zb = vb.dot(za_w_), zcc = vc.dot(za_w_);
+        if (za <= 0.0 && zb <= 0.0 && zcc <= 0.0) continue;  // all behind the camera
+        if (za > 0.0 && zb > 0.0 && zcc > 0.0) {
+          const double ca = va.dot(ya_w_) / za, cb = vb.dot(ya_w_) / zb, cc = vc.dot(ya_w_) / zcc;
+          const double lo = std::min({ca, cb, cc}), hi = std::max({ca, cb, cc});
+          const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
+          j0 = static_cast<int>(std::lower_bound(image_col + a, image_col + b + 1, lo - slack) - image_col);
+          j1 = static_cast<int>(std::upper_bound(image_col + j0, image_col + b + 1, hi + slack) - image_col);
+          if (j0 >= j1) continue;
+        }
+      }
+      const Eigen::Vector3d e1v = pb - pa, e2v = pc - pa, tv = camera_w_ - pa;
+      const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
+      const double tq = e2v.dot(qv);
+      if (j1 - j0 > kFloatFilterColumns) {
+        // Many sight lines: first in float, branch-free so the compiler
+        // vectorizes it, with a little slack so it misses nothing; then
+        // every candidate hit again in double. Float alone is not enough: a
+        // face the camera sees almost edge-on puts the crossing with the
+        // point's own face a few hundredths of a millimetre off the point.
+        const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
+        const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
+        const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
+        const int any = float_filter(dx_.data(), dy_.data(), dz_.data(), tmax_.data(), j0, j1,
+                                     {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
+        if (!any) continue;
+        for (int j = j0; j < j1; ++j)
+          if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+      } else {
+        for (int j = j0; j < j1; ++j)
+          if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+      }
+    }
+  }
+
+  // The exact test (double) of one sight line against one triangle.
+  static int crosses(const Eigen::Vector3d& d, const Eigen::Vector3d& av, const Eigen::Vector3d& bv,
+                     const Eigen::Vector3d& qv, double tq, double tmax) {
+    double det = d.dot(av), un = d.dot(bv), vn = d.dot(qv), tn = tq;
+    if (det < 0.0) {
+      det = -det;
+      un = -un;
+      vn = -vn;
+      tn = -tn;
+    }
+    return det > 0.0 && un >= 0.0 && vn >= 0.0 && un + vn <= det && tn > 0.0 && tn < det * tmax;
+  }
+
   const SharedScene& s_;
-  int group_;                // columns per group
   Eigen::Vector3d xa_, za_;  // camera x' (along the baseline) and z', sensor frame
-  std::array<int, kMaxShadowGroup> column_{};
-  std::array<float, kMaxShadowGroup> dx_{}, dy_{}, dz_{}, tmax_{};
-  std::array<int, kMaxShadowGroup> hidden_{}, maybe_{};
-  std::array<Eigen::Vector3d, kMaxShadowGroup> d_{};  // sight lines, world frame, double
-  std::array<double, kMaxShadowGroup> tmax_d_{};      // tmax_ in double
+  Eigen::Vector3d camera_w_, za_w_, ya_w_;  // camera centre, z' and y' in the world frame
+  // Per lit point in front of the camera, in column order.
+  std::vector<int> column_;
+  std::vector<float> dx_, dy_, dz_, tmax_;  // sight line and tmax, float
+  std::vector<int> hidden_, maybe_;
+  std::vector<Eigen::Vector3d> d_;  // sight lines, world frame, double
+  std::vector<double> tmax_d_;      // tmax_ in double
+  std::vector<double> image_col_;   // y'/z': grows with the column
+  std::vector<double> q_, zc_;      // x'/z' and z'
+  // sight_lines' output, per column.
+  std::vector<double> all_zc_, all_q_, all_image_col_, all_wx_, all_wy_, all_wz_, all_tmax_;
+  std::array<std::pair<int, int>, 128> runs_{};
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
 };
@@ -502,7 +640,7 @@ class Worker {
   // sensor frame, and the triangle.
   struct Segment {
     Eigen::Vector2d p0, p1;
-    std::uint32_t triangle;
+    std::uint32_t entry;  // hierarchy entry of the triangle it was cut from
   };
 
   // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
@@ -511,9 +649,8 @@ class Worker {
   // so the two triangles on an edge produce bit-identical end points and the
   // slice stays watertight.
   void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
-    const std::uint32_t t = s_.mesh.bvh.triangle(e);
     // A face turned away from the laser is hidden behind the solid's front.
-    if (s_.mesh.closed && !s_.mesh.faces(t, origin_c)) return;
+    if (s_.mesh.closed && !s_.mesh.faces(e, origin_c)) return;
     const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
     Eigen::Vector3d v[3];
     for (int k = 0; k < 3; ++k)
@@ -536,7 +673,7 @@ class Worker {
       ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
     }
     if (count < 2 || ends[0] == ends[1]) return;
-    segments_.push_back({ends[0], ends[1], t});
+    segments_.push_back({ends[0], ends[1], e});
   }
 
   // Joins runs of connected, collinear segments of one profile (a flat face
@@ -639,7 +776,7 @@ class Worker {
         p1 = far;
         leave = other ^ 1;
       }
-      joined_.push_back({p0, p1, segments_[first].triangle});
+      joined_.push_back({p0, p1, segments_[first].entry});
     }
     segments_.swap(joined_);
   }
@@ -657,7 +794,7 @@ class Worker {
     const float d1 = static_cast<float>(kNearClipMm / p1.y());
     const float y_lo = static_cast<float>(2.0 * row / rows - 1.0);
     const float y_hi = static_cast<float>(2.0 * (row + 1) / rows - 1.0);
-    const std::uint32_t t = g.triangle;
+    const std::uint32_t t = g.entry;
     stream_.push_back({x0, y_lo, d0, row, t});
     stream_.push_back({x1, y_lo, d1, row, t});
     stream_.push_back({x1, y_hi, d1, row, t});
@@ -847,7 +984,12 @@ class RasterSource final : public ProfileSource {
     SharedScene& s = *scene_;
     s.desc = desc;
     s.directions = column_directions(desc);
-    for (const auto& d : s.directions) s.directions_d.push_back(d.cast<double>());
+    for (const auto& d : s.directions) {
+      s.directions_d.push_back(d.cast<double>());
+      s.dir_x.push_back(s.directions_d.back().x());
+      s.dir_y.push_back(s.directions_d.back().y());
+      s.dir_z.push_back(s.directions_d.back().z());
+    }
     // Column i is the centre of pixel i of an n-wide image whose horizontal
     // half-angle is fan/2 (sensor/rays.h): NDC x = (y/z) / tan(fan/2).
     s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);

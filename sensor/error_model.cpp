@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "sensor/fast_math.h"
 #include "sensor/rays.h"
 
 namespace vts {
@@ -37,46 +38,139 @@ constexpr std::uint64_t mix(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
+// The half of every draw's hash that depends on the profile only.
+std::uint64_t profile_key(std::uint64_t seed, std::int64_t profile) {
+  return mix(mix(seed) ^ static_cast<std::uint64_t>(profile));
+}
+// The half that depends on (column, purpose) only, cached per run in
+// ScanState::column_keys at [p * points + column].
+std::uint64_t column_key(int column, std::uint64_t p) {
+  return mix(static_cast<std::uint64_t>(column) * kPurposes + p);
+}
+
 // Counter-based draws for one profile: uniform(column, purpose) is a pure
-// function of (seed, profile index, column, purpose).
-// column_keys[column * kPurposes + p] must hold column_key(column, p) (the
-// half of the hash that does not depend on the profile, cached per run).
+// function of (seed, profile index, column, purpose): unit_from_hash of
+// mix(profile_key ^ column_key).
 class Draws {
  public:
-  Draws(std::uint64_t seed, std::int64_t profile, const std::uint64_t* column_keys)
-      : key_(mix(mix(seed) ^ static_cast<std::uint64_t>(profile))), column_keys_(column_keys) {}
-
-  static std::uint64_t column_key(int column, std::uint64_t p) {
-    return mix(static_cast<std::uint64_t>(column) * kPurposes + p);
-  }
+  Draws(std::uint64_t key, const std::uint64_t* column_keys, int points)
+      : key_(key), column_keys_(column_keys), points_(points) {}
   // In [0, 1), 53 random bits.
   double uniform(int column, Purpose p) const {
-    const std::uint64_t h = mix(key_ ^ column_keys_[static_cast<std::size_t>(column) * kPurposes + p]);
-    return static_cast<double>(h >> 11) * 0x1.0p-53;
-  }
-  // Standard normal (Box-Muller).
-  double normal(int column) const {
-    const double u1 = 1.0 - uniform(column, kNoiseA);  // (0, 1]
-    const double u2 = uniform(column, kNoiseB);
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+    return unit_from_hash(mix(key_ ^ column_keys_[static_cast<std::size_t>(p) * points_ + column]));
   }
 
  private:
   std::uint64_t key_;
   const std::uint64_t* column_keys_;
+  int points_;
 };
 
+// The draws every column needs, a whole profile at a time in loops without
+// branches, so that they vectorize (cloned for AVX2 and AVX-512 with GCC on
+// x86-64; the clones compute the same values).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define VTS_SIMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#else
+#define VTS_SIMD_CLONES
+#endif
+
+// out[i] = Draws::uniform(i, p), keys = column_keys + p * n.
+VTS_SIMD_CLONES void uniforms(std::uint64_t key, const std::uint64_t* __restrict keys, int n,
+                              double* __restrict out) {
+  for (int i = 0; i < n; ++i) out[i] = unit_from_hash(mix(key ^ keys[i]));
+}
+
+// out[i] = scale * a standard normal (Box-Muller of the kNoiseA and kNoiseB
+// draws of column i).
+VTS_SIMD_CLONES void normals(std::uint64_t key, const std::uint64_t* __restrict keys_a,
+                             const std::uint64_t* __restrict keys_b, int n, double scale,
+                             double* __restrict out) {
+  for (int i = 0; i < n; ++i) {
+    const double u1 = 1.0 - unit_from_hash(mix(key ^ keys_a[i]));  // (0, 1]
+    const double u2 = unit_from_hash(mix(key ^ keys_b[i]));
+    out[i] = scale * (std::sqrt(-2.0 * log_unit(u1)) * cos_turns(u2));
+  }
+}
+
+// Conditions measure_columns finds per column (bits of `flags`).
+enum ColumnFlag : std::int32_t {
+  kFlagGrazing = 1,        // beyond the incidence limit
+  kFlagOutsideColumns = 2, // outside the image columns
+  kFlagDropout = 4,        // a random dropout
+  kFlagPeakLost = 8,       // the peak behind the laser or outside the image rows
+};
+
+// What measure_columns needs of the scanner and the profile.
+struct ColumnParams {
+  double u_inf_px, k_mm_px, half_height_px, f_px, cos_theta, half_width_px;
+  double rough_prob, rough_min_mm, rough_span_mm;
+  double cos_max_incidence, drop_normal, drop_span;
+  double step_px, height_px;
+  double reflectivity, intensity_ref_mm;
+};
+
+// The arithmetic of the model for every column of a profile at once,
+// branch-free so that it vectorizes (unlit columns give meaningless values):
+// flags[i] (ColumnFlag bits) and the measured y, z, range and intensity if
+// the column is measured. The peak, the lit point moved along its column ray
+// by the reflection cluster's offset, or else by a rough-surface outlier
+// (u_hit < p, size min + span u_off, sign by u_sign), gets speckle noise on
+// its image row, is quantized to the sub-pixel step and must fall inside the
+// image in front of the laser; it is triangulated back on the column ray.
+// Dropouts: probability rising as sin^4 of the incidence.
+VTS_SIMD_CLONES void measure_columns(
+    int n, const float* __restrict cos_incidence, const float* __restrict z_ideal,
+    const float* __restrict range_ideal, const double* __restrict tan, const double* __restrict secant,
+    const float* __restrict cluster, const double* __restrict u_drop, const double* __restrict u_hit,
+    const double* __restrict u_off, const double* __restrict u_sign, const double* __restrict noise,
+    const ColumnParams p, std::int32_t* __restrict flags, float* __restrict y_out,
+    float* __restrict z_out, float* __restrict range_out, float* __restrict intensity_out) {
+  for (int i = 0; i < n; ++i) {
+    const double cos_inc = cos_incidence[i];
+    const double rt = range_ideal[i];
+    const double t = tan[i];
+    const double sin2 = 1.0 - cos_inc * cos_inc;
+    const double p_drop = p.drop_normal + p.drop_span * sin2 * sin2;
+    const double mag = p.rough_min_mm + p.rough_span_mm * u_off[i];
+    const double rough = u_hit[i] < p.rough_prob ? (u_sign[i] < 0.5 ? -mag : mag) : 0.0;
+    const double range = rt + (cluster[i] != 0.0f ? double(cluster[i]) : rough);
+    const double z_peak = double(z_ideal[i]) * (range / rt);
+    const double row = ((p.u_inf_px - p.k_mm_px / z_peak) + p.half_height_px) + noise[i];
+    const double row_q = p.step_px * round_half_away(row / p.step_px);
+    const double den = p.u_inf_px - (row_q - p.half_height_px);  // depth_of_row_mm
+    const double z_den = p.k_mm_px / den;  // computed either way: no branch
+    const double z = den > 0.0 ? z_den : 0.0;
+    const int peak_lost = !((range > 0.0) & (row_q >= 0.0) & (row_q < p.height_px) & (z > 0.0));
+    const double a = p.intensity_ref_mm / rt;
+    const double v = p.reflectivity * cos_inc * a * a;
+    const double intensity = v < 0.0 ? 0.0 : (1.0 < v ? 1.0 : v);  // std::clamp(v, 0, 1)
+    flags[i] = (cos_inc < p.cos_max_incidence ? kFlagGrazing : 0) |
+               (std::abs(p.f_px * t / p.cos_theta) > p.half_width_px ? kFlagOutsideColumns : 0) |
+               (u_drop[i] < p_drop ? kFlagDropout : 0) | (peak_lost ? kFlagPeakLost : 0);
+    z_out[i] = static_cast<float>(z);
+    y_out[i] = static_cast<float>(t * z);
+    range_out[i] = static_cast<float>(z * secant[i]);
+    intensity_out[i] = static_cast<float>(intensity);
+  }
+}
+
 void cache_columns(const ScannerDesc& desc, ScanState& state) {
-  if (state.cached_points == desc.points && state.cached_fan_deg == desc.fan_deg &&
-      static_cast<int>(state.column_tan.size()) == desc.points)
+  const int n = desc.points;
+  if (state.cached_points == n && state.cached_fan_deg == desc.fan_deg &&
+      static_cast<int>(state.column_tan.size()) == n)
     return;
-  state.column_tan.resize(desc.points);
-  for (int i = 0; i < desc.points; ++i) state.column_tan[i] = column_tan(desc, i);
-  state.column_keys.resize(static_cast<std::size_t>(desc.points) * kPurposes);
-  for (int i = 0; i < desc.points; ++i)
-    for (std::uint64_t p = 0; p < kPurposes; ++p)
-      state.column_keys[static_cast<std::size_t>(i) * kPurposes + p] = Draws::column_key(i, p);
-  state.cached_points = desc.points;
+  state.column_tan.resize(n);
+  for (int i = 0; i < n; ++i) state.column_tan[i] = column_tan(desc, i);
+  state.column_keys.resize(static_cast<std::size_t>(n) * kPurposes);
+  for (std::uint64_t p = 0; p < kPurposes; ++p)
+    for (int i = 0; i < n; ++i) state.column_keys[p * n + i] = column_key(i, p);
+  state.cluster_offset_mm.resize(n);
+  state.column_secant.resize(n);
+  for (int i = 0; i < n; ++i) state.column_secant[i] = std::sqrt(1.0 + state.column_tan[i] * state.column_tan[i]);
+  for (auto* v : {&state.draw_a, &state.draw_b, &state.draw_c, &state.draw_d, &state.draw_e}) v->resize(n);
+  state.flags.resize(n);
+  state.cached_points = n;
   state.cached_fan_deg = desc.fan_deg;
 }
 
@@ -152,11 +246,12 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
   m.time_s = ideal.time_s;
   m.index = ideal.index;
   cache_columns(desc, state);
-  if (static_cast<int>(state.cluster_offset_mm.size()) != n) state.cluster_offset_mm.resize(n);
   ++state.profiles;
 
   const CameraModel cam = camera_model(desc);
-  const Draws draws(state.seed, ideal.index, state.column_keys.data());
+  const std::uint64_t key = profile_key(state.seed, ideal.index);
+  const std::uint64_t* keys = state.column_keys.data();
+  const Draws draws(key, keys, n);
   const double cos_max_incidence = std::cos(desc.max_incidence_deg * kDeg);
   const int roi_last = std::min(desc.roi_last_column, n - 1);
   const double step = desc.subpixel_step_px;
@@ -167,10 +262,12 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
   // overrides an earlier one. Every column's draws are made whether or not it
   // is lit, so both sources see the same clusters.
   std::fill(state.cluster_offset_mm.begin(), state.cluster_offset_mm.end(), 0.0f);
+  double* const u_a = state.draw_a.data();
   if (!desc.ideal && desc.shiny_cluster_prob > 0.0) {
     const int max_len = desc.shiny_cluster_max_points;
+    uniforms(key, keys + kShinyStart * n, n, u_a);
     for (int j = 0; j < n; ++j) {
-      if (!(draws.uniform(j, kShinyStart) < desc.shiny_cluster_prob)) continue;
+      if (!(u_a[j] < desc.shiny_cluster_prob)) continue;
       const int len = std::min(max_len, 1 + static_cast<int>(draws.uniform(j, kShinyLength) * max_len));
       const double mag = desc.shiny_offset_min_mm +
                          (desc.shiny_offset_max_mm - desc.shiny_offset_min_mm) *
@@ -181,97 +278,98 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
     }
   }
 
-  for (int i = 0; i < n; ++i) {
-    m.true_y_mm[i] = ideal.y_mm[i];
-    m.true_z_mm[i] = ideal.z_mm[i];
-    m.true_valid[i] = ideal.valid[i];
-    m.cos_incidence[i] = ideal.cos_incidence[i];
-    m.camera_visible[i] = ideal.camera_visible[i];
-    m.valid[i] = 0;
-    m.y_mm[i] = m.z_mm[i] = m.range_mm[i] = 0.0f;
-    m.intensity[i] = 0.0f;
-    if (!ideal.valid[i]) continue;
-    ++state.lit;
-
-    const double cos_inc = ideal.cos_incidence[i];
+  std::copy(ideal.y_mm.begin(), ideal.y_mm.end(), m.true_y_mm.begin());
+  std::copy(ideal.z_mm.begin(), ideal.z_mm.end(), m.true_z_mm.begin());
+  std::copy(ideal.valid.begin(), ideal.valid.end(), m.true_valid.begin());
+  std::copy(ideal.cos_incidence.begin(), ideal.cos_incidence.end(), m.cos_incidence.begin());
+  std::copy(ideal.camera_visible.begin(), ideal.camera_visible.end(), m.camera_visible.begin());
+  std::fill(m.valid.begin(), m.valid.end(), std::uint8_t{0});
+  auto intensity = [&](int i) {
     const double range_true = ideal.range_mm[i];
-    const double intensity = std::clamp(
-        desc.reflectivity * cos_inc *
-            (desc.intensity_ref_range_mm / range_true) * (desc.intensity_ref_range_mm / range_true),
-        0.0, 1.0);
+    return static_cast<float>(std::clamp(desc.reflectivity * double(ideal.cos_incidence[i]) *
+                                             (desc.intensity_ref_range_mm / range_true) *
+                                             (desc.intensity_ref_range_mm / range_true),
+                                         0.0, 1.0));
+  };
 
-    if (desc.ideal) {
+  if (desc.ideal) {
+    std::fill(m.y_mm.begin(), m.y_mm.end(), 0.0f);
+    std::fill(m.z_mm.begin(), m.z_mm.end(), 0.0f);
+    std::fill(m.range_mm.begin(), m.range_mm.end(), 0.0f);
+    std::fill(m.intensity.begin(), m.intensity.end(), 0.0f);
+    for (int i = 0; i < n; ++i) {
+      if (!ideal.valid[i]) continue;
+      ++state.lit;
       m.valid[i] = 1;
       m.y_mm[i] = ideal.y_mm[i];
       m.z_mm[i] = ideal.z_mm[i];
       m.range_mm[i] = ideal.range_mm[i];
-      m.intensity[i] = static_cast<float>(intensity);
+      m.intensity[i] = intensity(i);
       ++state.measured;
-      continue;
     }
+    return;
+  }
 
-    if (i < desc.roi_first_column || i > roi_last) {
-      ++state.outside_roi;
+  // Every column's draws, and the image row of its peak (the lit point, or
+  // one displaced along the column ray by a reflection cluster or a rough
+  // surface outlier), a whole profile at a time (peak_rows vectorizes).
+  double* const u_drop = state.draw_a.data();
+  double* const noise = state.draw_b.data();
+  double* const u_hit = state.draw_c.data();
+  double* const u_off = state.draw_d.data();
+  double* const u_sign = state.draw_e.data();
+  uniforms(key, keys + kDropout * n, n, u_drop);
+  if (desc.speckle_px > 0.0)
+    normals(key, keys + kNoiseA * n, keys + kNoiseB * n, n, desc.speckle_px, noise);
+  else
+    std::fill(noise, noise + n, 0.0);
+  const bool rough_on = desc.rough_outlier_prob > 0.0;
+  if (rough_on) {
+    uniforms(key, keys + kRoughHit * n, n, u_hit);
+    uniforms(key, keys + kRoughOffset * n, n, u_off);
+    uniforms(key, keys + kRoughSign * n, n, u_sign);
+  } else {
+    std::fill(u_hit, u_hit + n, 1.0);  // never below a probability of 0
+    std::fill(u_off, u_off + n, 0.0);
+    std::fill(u_sign, u_sign + n, 0.0);
+  }
+  const ColumnParams params{cam.u_inf_px, cam.k_mm_px, cam.half_height_px, cam.f_px, cam.cos_theta,
+                            cam.half_width_px, desc.rough_outlier_prob, desc.rough_offset_min_mm,
+                            desc.rough_offset_max_mm - desc.rough_offset_min_mm, cos_max_incidence,
+                            desc.dropout_prob_normal, desc.dropout_prob_grazing - desc.dropout_prob_normal,
+                            step, height, desc.reflectivity, desc.intensity_ref_range_mm};
+  std::int32_t* const flags = state.flags.data();
+  measure_columns(n, ideal.cos_incidence.data(), ideal.z_mm.data(), ideal.range_mm.data(),
+                  state.column_tan.data(), state.column_secant.data(), state.cluster_offset_mm.data(),
+                  u_drop, u_hit, u_off, u_sign, noise, params, flags, m.y_mm.data(), m.z_mm.data(),
+                  m.range_mm.data(), m.intensity.data());
+  // What becomes of each column, in the order the model decides it: unlit;
+  // outside the image-processing region; beyond the incidence limit; in
+  // camera shadow; outside the image columns; a dropout; the peak lost.
+  for (int i = 0; i < n; ++i) {
+    const std::int32_t f = flags[i];
+    std::int64_t* lost = nullptr;
+    if (!ideal.valid[i]) lost = nullptr;
+    else if (i < desc.roi_first_column || i > roi_last) lost = &state.outside_roi;
+    else if (f & kFlagGrazing) lost = &state.grazing;
+    else if (!ideal.camera_visible[i]) lost = &state.shadowed;
+    else if (f & kFlagOutsideColumns) lost = &state.outside_image;
+    else if (f & kFlagDropout) lost = &state.dropouts;
+    else if (f & kFlagPeakLost) lost = &state.outside_image;
+    else {
+      ++state.lit;
+      m.valid[i] = 1;
+      ++state.measured;
+      const bool shiny = state.cluster_offset_mm[i] != 0.0f;
+      state.shiny_outliers += shiny;
+      state.rough_outliers += !shiny && u_hit[i] < desc.rough_outlier_prob;
       continue;
     }
-    if (cos_inc < cos_max_incidence) {
-      ++state.grazing;
-      continue;
+    if (ideal.valid[i]) {
+      ++state.lit;
+      ++*lost;
     }
-    if (!ideal.camera_visible[i]) {
-      ++state.shadowed;
-      continue;
-    }
-    const double t = state.column_tan[i];
-    if (std::abs(cam.f_px * t / cam.cos_theta) > cam.half_width_px) {
-      ++state.outside_image;
-      continue;
-    }
-    const double sin2 = 1.0 - cos_inc * cos_inc;
-    const double p_drop = desc.dropout_prob_normal +
-                          (desc.dropout_prob_grazing - desc.dropout_prob_normal) * sin2 * sin2;
-    if (draws.uniform(i, kDropout) < p_drop) {
-      ++state.dropouts;
-      continue;
-    }
-
-    // The peak: the lit point, or a displaced one along the same column ray.
-    double range = range_true;
-    bool shiny = false, rough = false;
-    if (state.cluster_offset_mm[i] != 0.0f) {
-      range += state.cluster_offset_mm[i];
-      shiny = true;
-    } else if (desc.rough_outlier_prob > 0.0 &&
-               draws.uniform(i, kRoughHit) < desc.rough_outlier_prob) {
-      const double mag = desc.rough_offset_min_mm +
-                         (desc.rough_offset_max_mm - desc.rough_offset_min_mm) *
-                             draws.uniform(i, kRoughOffset);
-      range += draws.uniform(i, kRoughSign) < 0.5 ? -mag : mag;
-      rough = true;
-    }
-    if (!(range > 0.0)) {
-      ++state.outside_image;
-      continue;
-    }
-    const double z_peak = double(ideal.z_mm[i]) * (range / range_true);
-
-    // Image row from the top edge, with speckle, quantized to the sub-pixel step.
-    double row = image_row_px(cam, z_peak) + cam.half_height_px;
-    if (desc.speckle_px > 0.0) row += desc.speckle_px * draws.normal(i);
-    const double row_q = step * std::round(row / step);
-    const double z = depth_of_row_mm(cam, row_q - cam.half_height_px);
-    if (!(row_q >= 0.0 && row_q < height) || !(z > 0.0)) {
-      ++state.outside_image;
-      continue;
-    }
-    m.valid[i] = 1;
-    m.z_mm[i] = static_cast<float>(z);
-    m.y_mm[i] = static_cast<float>(t * z);
-    m.range_mm[i] = static_cast<float>(z * std::sqrt(1.0 + t * t));
-    m.intensity[i] = static_cast<float>(intensity);
-    ++state.measured;
-    state.shiny_outliers += shiny;
-    state.rough_outliers += rough;
+    m.y_mm[i] = m.z_mm[i] = m.range_mm[i] = m.intensity[i] = 0.0f;
   }
 }
 

@@ -48,7 +48,10 @@ struct ScanState {
   // Scratch, sized on first use (no allocation per profile afterwards).
   std::vector<float> cluster_offset_mm;  // per column, 0 = not in a cluster
   std::vector<double> column_tan;        // t_i of sensor/rays.h
-  std::vector<std::uint64_t> column_keys;  // per column and purpose: the draws' column hash
+  std::vector<double> column_secant;     // sqrt(1 + t_i^2)
+  std::vector<std::uint64_t> column_keys;  // per purpose and column: the draws' column hash
+  std::vector<double> draw_a, draw_b, draw_c, draw_d, draw_e;  // per column: one profile's draws
+  std::vector<std::int32_t> flags;  // per column: conditions found (error_model.cpp)
   int cached_points = 0;
   double cached_fan_deg = 0.0;
 };

@@ -1,8 +1,14 @@
 #include "sensor/mesh_bvh.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <cstring>
 #include <numeric>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace vts {
 namespace {
@@ -10,6 +16,37 @@ namespace {
 // Larger leaves mean fewer nodes to visit (each a likely cache miss on big
 // meshes); their triangles are tested from contiguous memory.
 constexpr std::uint32_t kLeafSize = 16;
+
+// Eight floats (GCC/Clang vector extension): one lane per plane of a query.
+// AVX when the build targets it, two SSE registers otherwise. (GCC notes that
+// passing them by value changes with AVX: only inline helpers here do.)
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+using Float8 = float __attribute__((vector_size(32)));
+using Int8 = std::int32_t __attribute__((vector_size(32)));
+
+// Whether some lane of a comparison's result is true.
+inline bool any_lane(Int8 m) {
+#if defined(__AVX__)
+  return _mm256_movemask_ps(reinterpret_cast<__m256>(m)) != 0;
+#elif defined(__SSE2__)
+  __m128 lo, hi;
+  std::memcpy(&lo, &m, sizeof lo);
+  std::memcpy(&hi, reinterpret_cast<const char*>(&m) + sizeof lo, sizeof hi);
+  return (_mm_movemask_ps(lo) | _mm_movemask_ps(hi)) != 0;
+#else
+  std::int32_t any = 0;
+  for (int l = 0; l < 8; ++l) any |= m[l];
+  return any != 0;
+#endif
+}
+
+// Per lane: mask ? a : b (as bits: GCC scalarizes the vector ?: here).
+inline Float8 select(Int8 mask, float a, float b) {
+  const Int8 ia = reinterpret_cast<Int8>(Float8{} + a), ib = reinterpret_cast<Int8>(Float8{} + b);
+  return reinterpret_cast<Float8>((mask & ia) | (~mask & ib));
+}
 
 }  // namespace
 
@@ -23,6 +60,8 @@ MeshBvh::MeshBvh(std::span<const float> positions, std::span<const std::uint32_t
     std::array<float, 9>& c = corners_[t];
     for (int v = 0; v < 3; ++v)
       for (int k = 0; k < 3; ++k) c[3 * v + k] = positions[3 * std::size_t(triangles[3 * t + v]) + k];
+    for (float v : c)
+      if (std::abs(v) > max_abs_coord_) max_abs_coord_ = std::abs(v);  // NaN compares false
     Box& b = boxes[t];
     for (int k = 0; k < 3; ++k) {
       b[k] = std::min({c[k], c[3 + k], c[6 + k]});
@@ -133,25 +172,36 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
 
 void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
                             std::vector<std::uint32_t>& out) const {
+  // The planes in the lanes of 8-float vectors (lanes without a plane:
+  // 0 . p + 1 >= 0, always inside), each made more inclusive by a bound on
+  // the float rounding of n . p + w over the mesh's coordinates, so the
+  // float tests keep everything the double ones would.
+  assert(planes.size() <= 8);
+  Float8 nx{}, ny{}, nz{}, w{};
+  for (int l = 0; l < 8; ++l) w[l] = 1.0f;
+  for (std::size_t l = 0; l < std::min<std::size_t>(planes.size(), 8); ++l) {
+    const Eigen::Vector4d& p = planes[l];
+    const double bound = std::abs(p[3]) + (std::abs(p[0]) + std::abs(p[1]) + std::abs(p[2])) * max_abs_coord_;
+    nx[l] = static_cast<float>(p[0]);
+    ny[l] = static_cast<float>(p[1]);
+    nz[l] = static_cast<float>(p[2]);
+    w[l] = static_cast<float>(p[3] + 16.0 * 0x1p-24 * bound);
+  }
+  const Int8 px = nx >= 0.0f, py = ny >= 0.0f, pz = nz >= 0.0f;  // which box corner is farthest
   walk(
       [&](const Node& node) {
-        for (const Eigen::Vector4d& p : planes) {
-          // The box corner farthest along the plane normal.
-          double best = p[3];
-          for (int k = 0; k < 3; ++k) best += p[k] * (p[k] >= 0.0 ? node.hi[k] : node.lo[k]);
-          if (best < 0.0) return false;
-        }
-        return true;
+        const Float8 x = select(px, node.hi[0], node.lo[0]);
+        const Float8 y = select(py, node.hi[1], node.lo[1]);
+        const Float8 z = select(pz, node.hi[2], node.lo[2]);
+        return !any_lane(w + nx * x + ny * y + nz * z < 0.0f);
       },
       [&](std::uint32_t i) {
         const auto& c = corners_[i];
-        for (const Eigen::Vector4d& p : planes) {
-          bool all_out = true;
-          for (int v = 0; v < 3 && all_out; ++v)
-            all_out = p[0] * c[3 * v] + p[1] * c[3 * v + 1] + p[2] * c[3 * v + 2] + p[3] < 0.0;
-          if (all_out) return;
-        }
-        out.push_back(i);
+        const Float8 d0 = w + nx * c[0] + ny * c[1] + nz * c[2];
+        const Float8 d1 = w + nx * c[3] + ny * c[4] + nz * c[5];
+        const Float8 d2 = w + nx * c[6] + ny * c[7] + nz * c[8];
+        // Kept unless some plane has all three corners outside.
+        if (!any_lane((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) out.push_back(i);
       });
 }
 

@@ -46,7 +46,9 @@ class MeshBvh {
   // Entries of the triangles not entirely outside any one of the half-spaces
   // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).
   // Conservative: a triangle outside the region but not outside a single
-  // plane is kept.
+  // plane is kept. Tested in float, all planes at once, with each plane
+  // moved outwards by a bound on the rounding (so nothing the exact test
+  // would keep is dropped).
   void inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out) const;
 
  private:
@@ -67,6 +69,7 @@ class MeshBvh {
   std::vector<std::uint32_t> order_;            // triangle numbers in leaf order
   std::vector<std::array<float, 9>> corners_;   // per triangle, in leaf order
   std::size_t tri_count_ = 0;
+  double max_abs_coord_ = 0.0;  // largest |coordinate| of a corner (bounds float rounding)
 };
 
 }  // namespace vts

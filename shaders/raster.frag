@@ -6,7 +6,7 @@
 // so ranges match a ray caster to well under a micrometre.
 layout(early_fragment_tests) in;
 
-flat in uvec2 v_row_triangle;  // row in the pass, mesh triangle
+flat in uvec2 v_row_triangle;  // row in the pass, triangle (its hierarchy entry)
 
 layout(location = 0) out uint o_triangle;
 

@@ -8,7 +8,7 @@
 // exact along the segment because 1/z is affine in y/z on a line). Nothing is
 // transformed or clipped here.
 layout(location = 0) in vec3 a_ndc;
-layout(location = 1) in uvec2 a_row_triangle;  // row in the pass, mesh triangle
+layout(location = 1) in uvec2 a_row_triangle;  // row in the pass, triangle (its hierarchy entry)
 
 flat out uvec2 v_row_triangle;
 
