@@ -12,7 +12,7 @@
 
 using namespace vts;
 
-TEST_CASE("unit_from_hash is (h >> 11) * 2^-53 exactly", "[fast_math]") {
+TEST_CASE("fast math: unit_from_hash is the top 53 bits of the hash times 2^-53 exactly", "[fast_math]") {
   std::mt19937_64 rng(11);
   for (int i = 0; i < 200000; ++i) {
     const std::uint64_t h = rng();
@@ -22,7 +22,7 @@ TEST_CASE("unit_from_hash is (h >> 11) * 2^-53 exactly", "[fast_math]") {
   CHECK(unit_from_hash(~std::uint64_t{0}) == 1.0 - 0x1.0p-53);
 }
 
-TEST_CASE("cos_turns(u) is cos(2 pi u) within 4e-16", "[fast_math]") {
+TEST_CASE("fast math: cos_turns of u is cos of 2 pi u within 4e-16", "[fast_math]") {
   std::mt19937_64 rng(12);
   double worst = 0.0;
   for (int i = 0; i < 200000; ++i) {
@@ -49,7 +49,7 @@ TEST_CASE("cos_turns(u) is cos(2 pi u) within 4e-16", "[fast_math]") {
   CHECK(worst < 4e-16);
 }
 
-TEST_CASE("log_unit(x) is log x within 3e-16 relative on (0 1]", "[fast_math]") {
+TEST_CASE("fast math: log_unit is log within 3e-16 relative on the unit interval", "[fast_math]") {
   std::mt19937_64 rng(13);
   double worst = 0.0;
   auto check = [&](double x) {
@@ -66,7 +66,7 @@ TEST_CASE("log_unit(x) is log x within 3e-16 relative on (0 1]", "[fast_math]") 
   CHECK(worst < 3e-16);
 }
 
-TEST_CASE("round_half_away is std::round", "[fast_math]") {
+TEST_CASE("fast math: round_half_away is std::round", "[fast_math]") {
   std::mt19937_64 rng(14);
   std::uniform_real_distribution<double> any(-1e6, 1e6);
   for (int i = 0; i < 200000; ++i) {

@@ -52,7 +52,7 @@ TEST_CASE("fit_line: degenerate input", "[tracker][geometry]") {
   CHECK_FALSE(tk::fit_line(std::vector<Vec2>{Vec2(1, 2), Vec2(1, 2), Vec2(1, 2)}));
 }
 
-TEST_CASE("intersect: lines meet where expected; parallel lines do not", "[tracker][geometry]") {
+TEST_CASE("intersect: lines meet where expected and parallel lines do not", "[tracker][geometry]") {
   Line vertical{Vec2(1, 0), 2.0};   // y = 2
   Line horizontal{Vec2(0, -1), -100.0};  // z = 100
   const auto x = tk::intersect(vertical, horizontal);

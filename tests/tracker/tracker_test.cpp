@@ -185,7 +185,7 @@ TEST_CASE("reject reasons", "[tracker]") {
   }
 }
 
-TEST_CASE("corner: apex and angle; nearly collinear faces", "[tracker][corner]") {
+TEST_CASE("corner: apex and angle and nearly collinear faces", "[tracker][corner]") {
   tk::TrackerParams params;
   params.corner.angle_deg = {60.0, 179.0};
   for (double angle : {90.0, 150.0, 172.0}) {
