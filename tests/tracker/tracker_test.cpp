@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <new>
@@ -28,6 +29,41 @@ tk::TrackResult track(const synth::Profile& p, tk::JointType joint, tk::TrackerP
 
 // Lateral spacing of the synthetic columns at range z.
 double spacing_at(double z) { return z * 2.0 * std::tan(20.0 * std::numbers::pi / 180.0) / 512.0; }
+
+// Point i moved by d along its ray (d > 0: away from the sensor).
+void along_ray(synth::Profile& p, int i, double d) {
+  const double r = std::hypot(p.y[i], p.z[i]);
+  p.y[i] = static_cast<float>(p.y[i] * (r + d) / r);
+  p.z[i] = static_cast<float>(p.z[i] * (r + d) / r);
+}
+
+// Range noise of standard deviation sigma on every valid point, along its
+// ray: a sum of three uniforms from a fixed LCG (the same on every platform).
+void add_noise(synth::Profile& p, double sigma, std::uint32_t seed) {
+  std::uint32_t x = seed * 2654435761u + 12345u;
+  auto u = [&] {
+    x = x * 1664525u + 1013904223u;
+    return (x >> 8) * (1.0 / 16777216.0) - 0.5;
+  };
+  for (int i = 0; i < p.size(); ++i) {
+    const double n = (u() + u() + u()) * 2.0 * sigma;
+    if (p.valid[i]) along_ray(p, i, n);
+  }
+}
+
+// First valid column whose point lies at y >= y0.
+int column_at(const synth::Profile& p, double y0) {
+  int c = 0;
+  while (c + 1 < p.size() && (!p.valid[c] || p.y[c] < y0)) ++c;
+  return c;
+}
+
+// Tracker parameters for a noisy profile: surface_tol_mm = 3 sigma.
+tk::TrackerParams noisy_params(double sigma) {
+  tk::TrackerParams params;
+  params.surface_tol_mm = 3.0 * sigma;
+  return params;
+}
 
 }  // namespace
 
@@ -263,6 +299,70 @@ TEST_CASE("butt: coplanar plates merged across the gap are still split at it", "
   const double s = spacing_at(100.0);
   CHECK(r.gap_mm == Approx(3.0 * s).margin(s));
   CHECK(std::abs(r.track_point->x() - (p.y[c - 1] + p.y[c + 3]) / 2.0) < s);
+}
+
+// Noisy profiles (docs/JOINTS.md, "On noisy profiles", butt): range noise
+// along the rays with surface_tol_mm = 3 sigma, as a user would set it.
+TEST_CASE("butt noisy: a run of 2 invalid columns on one line beats a reflection cluster", "[tracker][butt]") {
+  // Coplanar plates at 100 mm (sigma 0.03 mm) whose gap shows only as two
+  // columns with no return; elsewhere a 4-point reflection 2 mm behind the
+  // plate (removed as outliers: a jump over removed points, wider than the gap).
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  add_noise(p, 0.03, 1);
+  const int c = column_at(p, 10.0);
+  p.invalidate(c, c + 1);
+  const int k = column_at(p, -20.0);
+  for (int i = 0; i < 4; ++i) along_ray(p, k + i, 2.0);
+  const auto params = noisy_params(0.03);
+  const auto r = track(p, tk::JointType::Butt, params);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double s = spacing_at(100.0);
+  CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 2])) < s);
+  CHECK(r.gap_mm == Approx(2.0 * s).margin(s));
+  // Without the rule (a run never long enough) the cluster, wider, wins.
+  auto never = params;
+  never.butt.min_hole_columns = 1000;
+  const auto r2 = track(p, tk::JointType::Butt, never);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r2.track_point->x() - 10.0) > 10.0);
+}
+
+TEST_CASE("butt noisy: points in front of both plates are no gap", "[tracker][butt]") {
+  // Coplanar plates at 250 mm (sigma 0.08 mm, above the outlier filter's
+  // support tolerance: the cluster is kept as a short segment) with a gap of
+  // one column with no return at y = 10, and a 3-point reflection 0.8 mm in
+  // front of the plate at y = -20, wider than the gap.
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(80, 250)}});
+  add_noise(p, 0.08, 1);
+  const int c = column_at(p, 10.0);
+  p.invalidate(c, c);
+  const int k = column_at(p, -20.0);
+  for (int i = 0; i < 3; ++i) along_ray(p, k + i, -0.8);
+  const auto r = track(p, tk::JointType::Butt, noisy_params(0.08));
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double s = spacing_at(250.0);
+  CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 1])) < s);
+  CHECK(r.gap_mm < 2.0 * s);
+}
+
+TEST_CASE("butt noisy: a plate cut short by a dropout still reaches to its edge", "[tracker][butt]") {
+  // A 1 mm gap at y = 5 (square edges 6 mm deep, rays through it see the
+  // right plate's edge face) at 100 mm, sigma 0.03 mm; a dropout 4 columns
+  // from the right plate's edge cuts its first points off the long segment.
+  const double g = 1.0, yl = 5.0 - 0.5 * g, yr = 5.0 + 0.5 * g;
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(yl, 100)}, {Vec2(yl, 100), Vec2(yl, 106)},
+                          {Vec2(yr, 100), Vec2(80, 100)}, {Vec2(yr, 100), Vec2(yr, 106)}});
+  add_noise(p, 0.03, 1);
+  const int c = column_at(p, yr);
+  p.invalidate(c + 4, c + 4);
+  const auto r = track(p, tk::JointType::Butt, noisy_params(0.03));
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double s = spacing_at(100.0);
+  CHECK(r.gap_mm == Approx(g).margin(2.0 * s + 0.1));
+  CHECK(std::abs(r.track_point->x() - 5.0) < s + 0.03);
 }
 
 TEST_CASE("v-groove: root, angle, depth and area", "[tracker][vgroove]") {
