@@ -26,6 +26,18 @@ struct OutlierParams {
   // never removed).
   int support_points = 3;
   double support_tol_mm = 0.1;
+  // A cluster at the start or end of a run (the profile is cut at jumps) can
+  // have made that jump itself: it is removed when support_points + 1 points
+  // beyond the cut and as many after it share one line (within
+  // support_tol_mm) that it leaves (by more than support_tol_mm across a
+  // jump, threshold_mm across invalid columns), and its step back onto the
+  // line is at least half the jump (a wall seen in a gap joins its plate with
+  // a short step).
+  bool run_end_clusters = true;
+  // An island is kept as a piece of a steep surface only if the next point
+  // beyond the cut continues its line past the island's end (the line of a
+  // short island passes near points beside it too).
+  bool islands_continue_ahead = true;
 };
 
 // Steps 2 and 3: split and merge, the paper's Table 1 plus the rule that cuts
@@ -75,6 +87,14 @@ struct FilletParams {
   Range angle_deg{45.0, 135.0};  // angle between the plates on the open side
   Range gap_mm{0.0, 3.0};        // true gap: web edge to flange
   WebSide web = WebSide::Auto;
+  // With a gap, the web's edge is placed from the last point towards the
+  // flange that lies on the web's line (as a butt plate reaches), not only
+  // from its long segment's end: noise can cut the web's last points off.
+  bool web_reaches = true;
+  // Each plate is extended over the long segments beyond it that continue its
+  // line (noise can cut a plate in pieces; the piece at the root alone can
+  // give a wrong angle), as the corner's faces are.
+  bool extend_plates = true;
 };
 
 struct CornerParams {
@@ -90,6 +110,10 @@ struct LapParams {
   // Upper plate thickness if known (> 0): gives the gap from the step when the
   // edge face is hidden. 0: unknown, gap not measured in that case.
   double upper_thickness_mm = 0.0;
+  // Each plate is extended over the long segments beyond it that continue its
+  // line (noise can cut a plate in pieces; the piece at the step alone can be
+  // several degrees off and fail the parallel test), as butt plates are.
+  bool extend_plates = true;
 };
 
 struct ButtParams {
@@ -101,6 +125,10 @@ struct ButtParams {
   // nothing over a run of at least this many consecutive columns: dropouts on
   // a plate are isolated columns.
   int min_hole_columns = 2;
+  // Plates found by splitting one merged segment at a hole are extended over
+  // the long segments beyond them on their line, as neighbouring plates are
+  // (noise can cut the far part short; its own line alone is off in angle).
+  bool extend_split_plates = true;
 };
 
 struct VGrooveParams {
@@ -137,6 +165,12 @@ struct TrackerParams {
   // square to the plate surface: a single point seen on such a face fixes the
   // edge exactly instead of only between two column rays.
   bool square_edges = true;
+  // Where a plate reaches over the points beside it that lie on its line
+  // (butt plates, the fillet's web), it also reaches over single points off
+  // it that lie in front of it or at most 2 surface_tol_mm behind it, between
+  // two points on its line in the neighbouring columns (one noisy point; a
+  // ray into a gap goes deeper).
+  bool reach_over_single_points = true;
 };
 
 }  // namespace vts::tracker

@@ -76,11 +76,59 @@ int run_end(const Buffer<std::uint8_t>& cut, int r0, int n) {
   return hit ? static_cast<int>(static_cast<const std::uint8_t*>(hit) - cut.data()) : n - 1;
 }
 
+// A cluster of 1..max_cluster_points at one end of the run [r0, r1] (dir +1:
+// its start, -1: its end) that made the jump cutting the run there itself:
+// the support_points + 1 points on the other side of the cut and as many
+// after the cluster inside the run lie on one line (within support_tol_mm),
+// the cluster leaves that line (by more than support_tol_mm across a jump,
+// threshold_mm across invalid columns), and its step back onto the line is at
+// least half the jump. Returns the cluster's length, 0 if none.
+int run_end_cluster(const float* ys, const float* zs, const int* cols, int n, int r0, int r1, int dir,
+                    const OutlierParams& op, const Buffer<std::uint8_t>& keep) {
+  auto raw = [&](int k) { return Vec2(ys[k], zs[k]); };
+  const int max_cluster = std::max(1, op.max_cluster_points);
+  const int support = std::clamp(op.support_points, 1, 8);
+  // o: the point on the other side of the cut; it and the support points
+  // beyond it must be kept when they lie in an earlier run (final by now);
+  // points of a later run are taken as they are.
+  const int o = dir > 0 ? r0 - 1 : r1 + 1;
+  const int o_far = o - dir * support;
+  if (o < 0 || o >= n || o_far < 0 || o_far >= n) return 0;
+  if (dir > 0)
+    for (int k = o_far; k <= o; ++k)
+      if (!keep[k]) return 0;
+  const int len = r1 - r0 + 1;
+  // Across a jump (no invalid column at the cut) the cluster itself made the
+  // step: off the line by more than its supports are is enough. Across
+  // missing columns it must be off by the cluster threshold.
+  const int c_cut = dir > 0 ? r0 : r1;
+  const double limit = std::abs(cols[c_cut] - cols[o]) == 1 ? op.support_tol_mm : op.threshold_mm;
+  for (int l = 1; l <= max_cluster && l + support + 1 <= len; ++l) {
+    const int c0 = dir > 0 ? r0 : r1;          // cluster's point at the cut
+    const int e = c0 + dir * l;                // first point after the cluster
+    const Vec2 a = raw(o), b = raw(e);
+    bool supported = true;
+    for (int k = 1; k <= support && supported; ++k)
+      supported = !beyond_chord(a, b, raw(o - dir * k), op.support_tol_mm) &&
+                  !beyond_chord(a, b, raw(e + dir * k), op.support_tol_mm);
+    if (!supported) continue;
+    bool off = false;
+    for (int k = c0; k != e && !off; k += dir) off = beyond_chord(a, b, raw(k), limit);
+    if (!off) continue;
+    // It leaves the line and comes back: the step back onto the line is at
+    // least half the jump (a wall seen in a gap joins its plate with a short
+    // step and leaves the other plate with a long one).
+    if ((b - raw(e - dir)).squaredNorm() < 0.25 * (raw(c0) - a).squaredNorm()) continue;
+    return l;
+  }
+  return 0;
+}
+
 // Marks outlier clusters in keep[] (1 keep, 0 outlier). See OutlierParams.
 // spike[j] != 0 where point j leaves the line through points j-2 and j-1 by
 // more than the threshold (or j < 2): only there can a cluster start.
 // Returns whether anything was removed.
-bool eliminate_outliers(const float* ys, const float* zs, int n, const Buffer<std::uint8_t>& cut,
+bool eliminate_outliers(const float* ys, const float* zs, const int* cols, int n, const Buffer<std::uint8_t>& cut,
                         const Buffer<std::uint8_t>& spike, const OutlierParams& op, Buffer<std::uint8_t>& keep) {
   auto raw = [&](int k) { return Vec2(ys[k], zs[k]); };
   keep.assign(n, 1);
@@ -101,24 +149,40 @@ bool eliminate_outliers(const float* ys, const float* zs, int n, const Buffer<st
         const Vec2 a = raw(r0), b = raw(r1);
         bool straight = true;
         for (int k = r0 + 1; k < r1 && straight; ++k) straight = !beyond_chord(a, b, raw(k), op.support_tol_mm);
-        piece = straight && ((r1 + 1 < n && !beyond_chord(a, b, raw(r1 + 1), op.threshold_mm)) ||
-                             (r0 > 0 && !beyond_chord(a, b, raw(r0 - 1), op.threshold_mm)));
+        // The point beyond continues the line: near it, and past the island's
+        // end along it (not beside the island: a short chord's line passes
+        // near many points).
+        const bool ahead_after = !op.islands_continue_ahead || (raw(r1 + 1 < n ? r1 + 1 : r1) - b).dot(b - a) > 0.0;
+        const bool ahead_before = !op.islands_continue_ahead || (raw(r0 > 0 ? r0 - 1 : r0) - a).dot(a - b) > 0.0;
+        piece = straight && ((r1 + 1 < n && ahead_after && !beyond_chord(a, b, raw(r1 + 1), op.threshold_mm)) ||
+                             (r0 > 0 && ahead_before && !beyond_chord(a, b, raw(r0 - 1), op.threshold_mm)));
       }
       if (piece) continue;
       for (int k = r0; k <= r1; ++k) keep[k] = 0;
       any = true;
       continue;
     }
+    // At either end of the run: a cluster that made the jump itself (see
+    // run_end_cluster). Removing it leaves the rest of the run to the tests below.
+    int head = r0;
+    if (op.run_end_clusters) {
+      const int l = run_end_cluster(ys, zs, cols, n, r0, r1, +1, op, keep);
+      if (l > 0) {
+        for (int k = r0; k < r0 + l; ++k) keep[k] = 0;
+        head = r0 + l;
+        any = true;
+      }
+    }
     // Inside a run: a cluster whose neighbours on both sides share one line.
     // Kept points are contiguous from `clean` on; before[m] is the m-th last
     // kept point before `clean` (n_before of them).
-    int clean = r0, before[9], n_before = 0;
+    int clean = head, before[9], n_before = 0;
     auto back = [&](int j, int m) {  // m-th last kept point before j, or -1
       if (j - 1 - m >= clean) return j - 1 - m;
       const int b = m - (j - clean);
       return b < n_before ? before[b] : -1;
     };
-    int j = r0;
+    int j = head;
     while (j <= r1) {
       // Skip the points that continue the line of the two before them.
       if (j >= clean + 2) {
@@ -153,6 +217,13 @@ bool eliminate_outliers(const float* ys, const float* zs, int n, const Buffer<st
         }
       }
       if (!removed) ++j;
+    }
+    if (op.run_end_clusters) {
+      const int l = run_end_cluster(ys, zs, cols, n, r0, r1, -1, op, keep);
+      if (l > 0) {
+        for (int k = r1 - l + 1; k <= r1; ++k) keep[k] = 0;
+        any = true;
+      }
     }
   }
   return any;
@@ -330,7 +401,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   // Step 1: outliers; then the kept points are compacted in place, with prefix
   // sums for O(1) line fits (relative to the first point, for precision).
   find_cuts_gathered(nv, params.segments, cols, s.steps_, s.cuts);
-  const bool removed = eliminate_outliers(ys, zs, nv, s.cuts, s.spike_, params.outliers, s.keep_);
+  const bool removed = eliminate_outliers(ys, zs, cols, nv, s.cuts, s.spike_, params.outliers, s.keep_);
   Vec2* pts = s.points.data();
   s.ref_ = nv > 0 ? Vec2(ys[0], zs[0]) : Vec2::Zero();
   int np = 0;

@@ -268,19 +268,20 @@ class Matcher {
   // Long segment q as a plate, extended outwards (dir -1: towards the start of
   // the profile, +1: towards its end) over the long segments that continue its
   // line (noise can cut a plate in pieces), fitted to their points.
-  Plate extended(int q, int dir) const {
-    const Segment& sq = seg(q);
-    PointSums sums = sq.sums;
-    int first = sq.first, last = sq.last;
+  Plate extended(int q, int dir) const { return extended(plate_of(seg(q)), seg(q).sums, q, dir); }
+  // The same for plate pl (points pl.first..pl.last, sums `sums`) cut from
+  // long segment q.
+  Plate extended(const Plate& pl, PointSums sums, int q, int dir) const {
+    int first = pl.first, last = pl.last;
     for (int r = q + dir; r >= 0 && r < n_long(); r += dir) {
       const Segment& nx = seg(r);
       if (!same_line(sums, nx.sums)) break;
       sums += nx.sums;
       first = std::min(first, nx.first), last = std::max(last, nx.last);
     }
-    if (first == sq.first && last == sq.last) return plate_of(sq);
+    if (first == pl.first && last == pl.last) return pl;
     const auto f = s_.fit(sums);
-    if (!f) return plate_of(sq);
+    if (!f) return pl;
     return Plate{first, last, f->line, f->centroid};
   }
 
@@ -316,7 +317,10 @@ class Matcher {
   void fillet() {
     const FilletParams& fp = p_.fillet;
     for (int q = 0; q + 1 < n_long(); ++q) {
-      const auto pr = pair(q);
+      // Each plate over the long segments beyond it that continue its line
+      // (noise can cut a plate in pieces; the short piece at the root alone
+      // gives a wrong angle).
+      const auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q + 1, +1)) : pair(q);
       if (!pr || !pr->valley) continue;
       const Plate& a = pr->a;
       const Plate& b = pr->b;
@@ -353,8 +357,26 @@ class Matcher {
       const int f_out = web_is_b ? a.first : b.last;
       const int f_end_col = web_is_b ? a_end_col : b_end_col;
       const Vec2 f_end_pt = web_is_b ? a_end_pt : b_end_pt;
-      const int w_end = web_is_b ? b.first : a.last, w_out = web_is_b ? b.last : a.first;
+      const int w_out = web_is_b ? b.last : a.first;
       const bool gap_seen = web_is_b ? a_past : b_past;
+      // The web reaches over the points towards the flange that lie on its
+      // line (noise can cut its last points off the long segment), and over
+      // the points removed as outliers there that lie on its line, in front
+      // of the flange (a few web points cut off by dropouts form an island).
+      int w_end = web_is_b ? b.first : a.last;
+      Vec2 w_end_pt = pt(w_end);
+      if (gap_seen && fp.web_reaches) {
+        w_end = web_is_b ? reach(web.line, w_end, -1, a.last) : reach(web.line, w_end, +1, b.first);
+        w_end_pt = pt(w_end);
+        const auto removed = web_is_b ? outliers_between(s_.cols[a.last], s_.cols[w_end])
+                                      : outliers_between(s_.cols[w_end], s_.cols[b.first]);
+        for (std::size_t k = 0; k < removed.size(); ++k) {
+          // Towards the flange: from the web's end backwards when the web is b.
+          const Vec2& o = removed[web_is_b ? removed.size() - 1 - k : k];
+          if (web.line.distance(o) > tol_ || flange.line.signed_distance(o) <= tol_) break;
+          w_end_pt = o;
+        }
+      }
 
       Candidate c;
       c.angle = angle_between_deg(pr->ua, pr->ub);
@@ -365,7 +387,7 @@ class Matcher {
       if (gap_seen) {
         // The web's edge lies between its last point and the ray of the last
         // flange point, which passed under it.
-        const Vec2 near = web.line.project(pt(w_end));
+        const Vec2 near = web.line.project(w_end_pt);
         Vec2 toe = near;
         if (const auto far = ray_hit(f_end_col, web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
           toe = 0.5 * (near + *far);
@@ -453,9 +475,13 @@ class Matcher {
   void lap() {
     const LapParams& lp = p_.lap;
     for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
+      // Each plate over the long segments beyond it that continue its line
+      // (noise can cut a plate in pieces; the piece at the step alone can be
+      // several degrees off).
+      const Plate a = lp.extend_plates ? extended(q1, -1) : plate_of(seg(q1));
       // The edge face may itself be a long segment between the plates.
       for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
-        const Plate a = plate_of(seg(q1)), b = plate_of(seg(q2));
+        const Plate b = lp.extend_plates ? extended(q2, +1) : plate_of(seg(q2));
         if (!near_enough(a, b) || acute_angle_deg(a.line, b.line) > lp.max_plate_angle_deg) continue;
         if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
         bool upper_is_b;
@@ -603,9 +629,22 @@ class Matcher {
   }
 
   // The last of the consecutive points from `end` on, stepping by `step` (not
-  // reaching `stop`), that lie on line l (within the surface tolerance).
+  // reaching `stop`), that lie on line l (within the surface tolerance), over
+  // single points off it that lie at most 2 tolerances behind it (noise; a ray
+  // into a gap goes deeper), between two points on the line in the
+  // neighbouring columns (no column missing or removed on either side).
   int reach(const Line& l, int end, int step, int stop) const {
-    for (int i = end + step; i != stop && l.distance(pt(i)) <= tol_; i += step) end = i;
+    for (int i = end + step; i != stop; i += step) {
+      if (l.distance(pt(i)) <= tol_) {
+        end = i;
+        continue;
+      }
+      const int next = i + step;
+      if (!p_.reach_over_single_points || next == stop || l.signed_distance(pt(i)) < -2.0 * tol_ ||
+          l.distance(pt(next)) > tol_ || std::abs(s_.cols[next] - s_.cols[i - step]) != 2)
+        break;
+      end = i = next;
+    }
     return end;
   }
 
@@ -706,7 +745,12 @@ class Matcher {
           }
         }
         if (!hole) continue;
-        const auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
+        auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
+        // Each part over the long segments beyond it on its line, as above.
+        if (a && b && p_.butt.extend_split_plates) {
+          a = extended(*a, s_.sums(sg.first, k), q, -1);
+          b = extended(*b, s_.sums(e, sg.last), q, +1);
+        }
         // Missing columns with both sides on one line are strong evidence only
         // on clean profiles: on noisy ones a dropout looks the same.
         const bool missing = s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1;

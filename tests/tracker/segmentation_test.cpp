@@ -218,3 +218,79 @@ TEST_CASE("segmentation: malformed input", "[tracker][segmentation]") {
   CHECK_FALSE(s.error.empty());
   CHECK(s.points.empty());
 }
+
+// A noisy point displaced along its ray that makes a jump from the point
+// before it starts a new run: with no kept neighbours before it in its run,
+// the cluster test inside a run cannot remove it. It lies 0.27 mm off the
+// plate (under threshold_mm) and the step back onto the plate is no jump, so
+// it is the run's first point; the rule for clusters at a run's end removes it
+// (seen on a fillet's flange at 50 mm: left in, it cut the flange in two).
+TEST_CASE("outliers: a point that makes the jump starting its run is removed", "[tracker][segmentation]") {
+  auto p = synth::sample({{Vec2(-15, 35), Vec2(15, 65)}});  // 45 degrees at 50 mm
+  int c = 0;
+  while (p.y[c] < 0.76f) ++c;
+  p.z[c] += 0.38f;
+  p.y[c] = static_cast<float>(p.y[c] * (p.z[c]) / (p.z[c] - 0.38f));  // still on its column's ray
+  tk::SegmentationParams params;
+  {
+    const auto s = segment(p, params);
+    CHECK(s.outliers == 1);
+    CHECK(s.column_state[c] == tk::kColumnOutlier);
+    CHECK(s.segments.size() == 1);
+  }
+  // Without the rule the point stays and the plate is cut at it.
+  params.outliers.run_end_clusters = false;
+  {
+    const auto s = segment(p, params);
+    CHECK(s.outliers == 0);
+    CHECK(s.segments.size() > 1);
+  }
+}
+
+// The same rule must keep a wall seen in a gap: the points on plate 1's end
+// face join plate 1 with short steps and leave for plate 2 with a long one (a
+// butt joint's gap seen obliquely, as the built-in butt at 150 mm, tilt 20).
+TEST_CASE("outliers: a wall seen in a gap at a run's end is kept", "[tracker][segmentation]") {
+  // Plates tilted 20 degrees, gap 1 mm, the first plate's end face square to it.
+  const Vec2 u = synth::dir_deg(-20.0), nrm(-u.y(), u.x());  // along the plates, into the work (+z side)
+  const Vec2 c0(0.0, 150.0);
+  const Vec2 e1 = c0 - 0.5 * u, e2 = c0 + 0.5 * u;
+  const auto p = synth::sample({{e1 - 80.0 * u, e1}, {e2, e2 + 80.0 * u}, {e1, e1 + 6.0 * nrm}});
+  int wall = 0;
+  for (int i = 0; i < p.size(); ++i) wall += p.valid[i] && std::abs((Vec2(p.y[i], p.z[i]) - e1).dot(u)) < 1e-3 &&
+                                             (Vec2(p.y[i], p.z[i]) - e1).dot(nrm) > 0.05;
+  INFO(wall << " wall points");
+  REQUIRE(wall >= 2);
+  REQUIRE(wall <= 4);
+  const auto s = segment(p);
+  CHECK(s.outliers == 0);
+}
+
+// An island of a root-face point and a noisy point at the corner (dropouts
+// on both sides): the line through the two passes within threshold_mm of the
+// root face's next point beyond the dropout, but beside the island, not past
+// its end: no piece of a steep surface, so it is removed (seen on a
+// v-groove at 50 mm: kept, it was read as a 2-point bevel).
+TEST_CASE("outliers: an island is a piece only if the point beyond continues it past its end",
+          "[tracker][segmentation]") {
+  // Root face going away from the sensor's left (70 degrees), then the bevel.
+  const Vec2 corner(0.72, 50.21), face = synth::dir_deg(-70.0), bevel = synth::dir_deg(-40.0);
+  auto p = synth::sample({{corner - 2.0 * face, corner}, {corner, corner + 20.0 * bevel}});
+  int c = 0;
+  while (!p.valid[c] || p.y[c] < 0.66f) ++c;  // the last root-face point before the corner
+  p.invalidate(c - 1, c - 1);
+  // The next point 0.38 mm behind, along its ray: it makes a jump to the bevel.
+  const float z0 = p.z[c + 1];
+  p.z[c + 1] += 0.38f;
+  p.y[c + 1] = p.y[c + 1] * p.z[c + 1] / z0;
+  tk::SegmentationParams params;
+  {
+    const auto s = segment(p, params);
+    CHECK(s.column_state[c + 1] == tk::kColumnOutlier);
+  }
+  params.outliers.islands_continue_ahead = false;
+  {
+    const auto s = segment(p, params);
+    CHECK(s.column_state[c + 1] == tk::kColumnKept);
+  }
+}

@@ -365,6 +365,147 @@ TEST_CASE("butt noisy: a plate cut short by a dropout still reaches to its edge"
   CHECK(std::abs(r.track_point->x() - 5.0) < s + 0.03);
 }
 
+TEST_CASE("butt noisy: a plate reaches over a single noisy point to the points on its line", "[tracker][butt]") {
+  // A 1.5 mm gap at y = 0 with the right plate 1 mm deeper, at 250 mm (sigma
+  // 0.15 mm, above the outlier filter's support tolerance: single noisy
+  // points are kept). 20 mm into the right plate a point lies 0.55 mm behind
+  // it (under 2 surface tolerances), 8 columns on on the plate, then a dropout
+  // and another such point: a plate ending at each noisy point would leave 12
+  // columns between the pieces, with a dropout, read as a gap wider than the
+  // real one.
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(-0.75, 250)}, {Vec2(-0.75, 250), Vec2(-0.75, 256)},
+                          {Vec2(0.75, 251), Vec2(80, 251)}, {Vec2(0.75, 251), Vec2(0.75, 257)}});
+  add_noise(p, 0.15, 1);
+  const int k = column_at(p, 20.0);
+  along_ray(p, k, 0.55);
+  p.invalidate(k + 9, k + 9);
+  along_ray(p, k + 10, 0.55);
+  auto params = noisy_params(0.15);
+  const auto r = track(p, tk::JointType::Butt, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r.track_point->x()) < 1.0);
+  CHECK(r.mismatch_mm == Approx(1.0).margin(0.3));
+  // Without the rule the stretch between the noisy points wins.
+  params.reach_over_single_points = false;
+  const auto r2 = track(p, tk::JointType::Butt, params);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r2.track_point->x() - 21.5) < 3.0);
+}
+
+TEST_CASE("fillet noisy: each plate extends over the pieces of its line beyond it", "[tracker][fillet]") {
+  // A 90-degree fillet at 250 mm (sigma 0.15 mm). The web's first 9 points
+  // at the root are tilted by a ramp of +-0.5 mm along their rays (noise that
+  // happens to run one way) and cut off from the rest by a point 0.8 mm
+  // behind: a piece of 10 points, long enough to be a plate, whose line
+  // alone gives the angle several degrees off.
+  auto p = synth::sample(synth::valley(Vec2(0, 250), 90.0));
+  add_noise(p, 0.15, 3);
+  const int r = column_at(p, 0.0);
+  for (int k = 0; k < 9; ++k) along_ray(p, r + k, 0.5 * (k - 4.0) / 4.0);
+  along_ray(p, r + 9, 0.8);
+  auto params = noisy_params(0.15);
+  const auto res = track(p, tk::JointType::Fillet, params);
+  INFO(res.reason << ", " << res.segments.size() << " segments, " << res.outliers << " outliers");
+  REQUIRE(res.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(res.angle_deg - 90.0) < 1.0);
+  params.fillet.extend_plates = false;
+  const auto res2 = track(p, tk::JointType::Fillet, params);
+  REQUIRE(res2.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(res2.angle_deg - 90.0) > 2.0);
+}
+
+TEST_CASE("fillet noisy: the web's edge is read from its last points on its line", "[tracker][fillet]") {
+  // A fillet with a 2 mm gap at 250 mm (sigma 0.15 mm), as in "the web lifted
+  // off the flange shows a gap". Variant 0: the point 4 columns from the
+  // web's edge lies 0.9 mm behind it (along its ray), so the web's long
+  // segment starts after it and the 4 points at the edge are a short piece
+  // on its line. Variant 1: the web's first 3 points are cut off by dropouts
+  // on both sides (an island, removed as outliers). Either way the web still
+  // reaches to its edge; without the rule the gap reads a spacing or more
+  // too wide.
+  const double gap = 2.0;
+  const Vec2 root(0.0, 250.0);
+  const Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
+  const Vec2 flange_n(-left.y(), left.x());
+  const Vec2 toe = root + gap / std::abs(right.dot(flange_n)) * right;
+  auto clean = synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}});
+  add_noise(clean, 0.15, 2);
+  int e = 0;  // the web's first point
+  while (!(clean.valid[e] && std::abs((Vec2(clean.y[e], clean.z[e]) - toe).dot(flange_n)) < 1.0 &&
+           (Vec2(clean.y[e], clean.z[e]) - toe).dot(right) > -0.5))
+    ++e;
+  const double tol = spacing_at(250.0) / std::abs(right.x());  // a point spacing along the web
+  for (int variant = 0; variant < 2; ++variant) {
+    auto p = clean;
+    if (variant == 0) {
+      along_ray(p, e + 4, 0.9);
+    } else {
+      p.invalidate(e - 1, e - 1);
+      p.invalidate(e + 3, e + 3);
+    }
+    auto params = noisy_params(0.15);
+    const auto r = track(p, tk::JointType::Fillet, params);
+    INFO("variant " << variant << ": " << r.reason << ", " << r.outliers << " outliers");
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    CHECK(r.gap_mm == Approx(gap).margin(tol));
+    params.fillet.web_reaches = false;
+    const auto r2 = track(p, tk::JointType::Fillet, params);
+    CHECK(!(std::abs(r2.gap_mm - gap) <= tol));
+  }
+}
+
+TEST_CASE("lap noisy: each plate extends over the pieces of its line beyond it", "[tracker][lap]") {
+  // Lower plate at 250 mm, the upper plate's top 5 mm nearer from y = 20 on,
+  // its edge face in view; sigma 0.15 mm. The upper plate's first 8 points
+  // are tilted by a ramp of +-0.42 mm along their rays and cut off from the
+  // rest by a point 0.8 mm behind: a piece long enough to be a plate whose
+  // own line is more than 15 degrees off (not parallel to the lower plate).
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(20, 250)}, {Vec2(20, 245), Vec2(20, 250)},
+                          {Vec2(20, 245), Vec2(80, 245)}});
+  add_noise(p, 0.15, 4);
+  int u = 0;
+  while (!(p.valid[u] && p.y[u] > 20.0f + 1e-3f && p.z[u] < 245.5f)) ++u;
+  for (int k = 0; k < 8; ++k) along_ray(p, u + k, 0.42 * (k - 3.5) / 3.5);
+  along_ray(p, u + 8, 0.8);
+  auto params = noisy_params(0.15);
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.step_mm == Approx(5.0).margin(0.45));
+  const double sp = spacing_at(250.0);
+  CHECK(std::abs(r.track_point->x() - 20.0) < sp);
+  params.lap.extend_plates = false;
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  // Without the rule the piece is read as the edge face: the foot a point
+  // spacing or more off.
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.track_point->x() - 20.0) < sp));
+}
+
+TEST_CASE("butt noisy: plates split out of one merged segment extend over their line", "[tracker][butt]") {
+  // Coplanar plates at 250 mm (sigma 0.15 mm) with a 1 mm gap at y = 0 (rays
+  // through it find nothing). The right plate's first 9 points are tilted
+  // by a ramp of +-0.25 mm along their rays and cut off from the rest by two
+  // points 1 mm in front of it: the left plate and that piece merge across
+  // the gap into one segment, which is split at the hole; the piece alone
+  // gives the plates' angle about 5 degrees off.
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(-0.5, 250)}, {Vec2(0.5, 250), Vec2(80, 250)}});
+  add_noise(p, 0.15, 5);
+  const int u = column_at(p, 0.5);
+  for (int k = 0; k < 9; ++k) along_ray(p, u + k, 0.25 * (k - 4.0) / 4.0);
+  along_ray(p, u + 9, -1.0);
+  along_ray(p, u + 10, -1.0);
+  auto params = noisy_params(0.15);
+  const auto r = track(p, tk::JointType::Butt, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r.track_point->x()) < spacing_at(250.0));
+  CHECK(r.angle_deg == Approx(180.0).margin(2.0));
+  params.butt.extend_split_plates = false;
+  const auto r2 = track(p, tk::JointType::Butt, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - 180.0) <= 2.0));
+}
+
 TEST_CASE("v-groove: root, angle, depth and area", "[tracker][vgroove]") {
   // 60-degree groove, 1.2 mm root opening, 8 mm deep, plate tops at z = 92.
   const double half = 30.0, depth = 8.0, gap = 1.2;
