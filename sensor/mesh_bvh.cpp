@@ -122,7 +122,7 @@ void MeshBvh::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
 }
 
 template <class Visible, class Leaf>
-void MeshBvh::walk(Visible visible, Leaf leaf) const {
+[[gnu::always_inline]] inline void MeshBvh::walk(Visible visible, Leaf leaf) const {
   if (nodes_.empty()) return;
   // Depth stays below 64: median splits halve the count at every level.
   std::uint32_t stack[64];
@@ -144,6 +144,15 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                               double tol_mm, std::span<std::vector<std::uint32_t>> out) const {
   if (d.empty()) return;
+  // The offsets in increasing order (a triangle crosses a contiguous run of
+  // them: found by binary search instead of testing every one).
+  constexpr std::size_t kMaxSorted = 64;
+  std::array<std::pair<double, std::uint32_t>, kMaxSorted> sorted;
+  const bool use_sorted = d.size() <= kMaxSorted;
+  if (use_sorted) {
+    for (std::size_t k = 0; k < d.size(); ++k) sorted[k] = {d[k], static_cast<std::uint32_t>(k)};
+    std::sort(sorted.begin(), sorted.begin() + d.size());
+  }
   const auto [d_min, d_max] = std::minmax_element(d.begin(), d.end());
   const double mid = 0.5 * (*d_min + *d_max), half = 0.5 * (*d_max - *d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
@@ -165,11 +174,22 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           lo = std::min(lo, s);
           hi = std::max(hi, s);
         }
-        for (std::size_t k = 0; k < d.size(); ++k)
-          if (lo <= d[k] + tol_mm && hi >= d[k] - tol_mm) out[k].push_back(i);
+        if (!use_sorted) {
+          for (std::size_t k = 0; k < d.size(); ++k)
+            if (lo <= d[k] + tol_mm && hi >= d[k] - tol_mm) out[k].push_back(i);
+          return;
+        }
+        // Both tests are monotonic in the offset: the first offset with
+        // lo <= d + tol, then on while hi >= d - tol.
+        auto k = std::partition_point(sorted.begin(), sorted.begin() + d.size(),
+                                      [&](const auto& e) { return !(lo <= e.first + tol_mm); });
+        for (; k != sorted.begin() + d.size() && hi >= k->first - tol_mm; ++k) out[k->second].push_back(i);
       });
 }
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+__attribute__((target_clones("default", "arch=x86-64-v3")))
+#endif
 void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
                             std::vector<std::uint32_t>& out) const {
   // The planes in the lanes of 8-float vectors (lanes without a plane:
