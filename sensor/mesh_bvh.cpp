@@ -153,6 +153,8 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
     for (std::size_t k = 0; k < d.size(); ++k) sorted[k] = {d[k], static_cast<std::uint32_t>(k)};
     std::sort(sorted.begin(), sorted.begin() + d.size());
   }
+  const double spread = use_sorted && d.size() > 1 ? sorted[d.size() - 1].first - sorted[0].first : 0.0;
+  const double per_spacing = spread > 0.0 ? double(d.size() - 1) / spread : 0.0;  // 1 / mean spacing
   const auto [d_min, d_max] = std::minmax_element(d.begin(), d.end());
   const double mid = 0.5 * (*d_min + *d_max), half = 0.5 * (*d_max - *d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
@@ -180,10 +182,18 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           return;
         }
         // Both tests are monotonic in the offset: the first offset with
-        // lo <= d + tol, then on while hi >= d - tol.
-        auto k = std::partition_point(sorted.begin(), sorted.begin() + d.size(),
-                                      [&](const auto& e) { return !(lo <= e.first + tol_mm); });
-        for (; k != sorted.begin() + d.size() && hi >= k->first - tol_mm; ++k) out[k->second].push_back(i);
+        // lo <= d + tol, then on while hi >= d - tol. The first is guessed
+        // from the mean spacing (exact for a path of equal steps), then
+        // stepped to.
+        const std::size_t count = d.size();
+        std::size_t k = 0;
+        if (per_spacing > 0.0) {
+          const double g = (lo - tol_mm - sorted[0].first) * per_spacing;
+          k = g <= 0.0 ? 0 : std::min(count - 1, static_cast<std::size_t>(g));
+        }
+        while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;
+        while (k < count && !(lo <= sorted[k].first + tol_mm)) ++k;
+        for (; k < count && hi >= sorted[k].first - tol_mm; ++k) out[sorted[k].second].push_back(i);
       });
 }
 
