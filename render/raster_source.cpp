@@ -29,6 +29,7 @@
 #include "sensor/error_model.h"
 #include "sensor/mesh_bvh.h"
 #include "sensor/rays.h"
+#include "sensor/simd_clones.h"
 #include "shaders/embedded.h"
 
 namespace vts {
@@ -250,9 +251,7 @@ static_assert(sizeof(StreamVertex) == 20);
 // it misses nothing the exact test would find. Branch-free, so the loop
 // vectorizes (cloned for AVX2 and AVX-512 with GCC on x86-64; no FMA
 // contraction in this file, so every clone gives the same answer).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#endif
+VTS_SIMD_CLONES
 int float_filter(const float* __restrict dx, const float* __restrict dy, const float* __restrict dz,
                  const float* __restrict tmax, int j0, int j1, std::array<float, 10> k,
                  int* __restrict maybe) {
@@ -287,9 +286,7 @@ struct SightFrame {
   double cx, cy, cz, xax, xay, xaz, zax, zay, zaz;
   double r[9];  // row-major
 };
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#endif
+VTS_SIMD_CLONES
 void sight_lines(int n, const float* __restrict range, const double* __restrict dir_x,
                  const double* __restrict dir_y, const double* __restrict dir_z, const SightFrame f,
                  double* __restrict zc, double* __restrict q, double* __restrict image_col,

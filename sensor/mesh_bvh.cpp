@@ -10,6 +10,8 @@
 #include <immintrin.h>
 #endif
 
+#include "sensor/simd_clones.h"
+
 namespace vts {
 namespace {
 
@@ -18,16 +20,13 @@ namespace {
 constexpr std::uint32_t kLeafSize = 16;
 
 // Eight floats (GCC/Clang vector extension): one lane per plane of a query.
-// AVX when the build targets it, two SSE registers otherwise. (GCC notes that
-// passing them by value changes with AVX: only inline helpers here do.)
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
+// AVX when the build targets it, two SSE registers otherwise. (Passed by
+// reference: GCC warns that passing them by value changes with AVX.)
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = std::int32_t __attribute__((vector_size(32)));
 
 // Whether some lane of a comparison's result is true.
-inline bool any_lane(Int8 m) {
+inline bool any_lane(const Int8& m) {
 #if defined(__AVX__)
   return _mm256_movemask_ps(reinterpret_cast<__m256>(m)) != 0;
 #elif defined(__SSE2__)
@@ -43,9 +42,9 @@ inline bool any_lane(Int8 m) {
 }
 
 // Per lane: mask ? a : b (as bits: GCC scalarizes the vector ?: here).
-inline Float8 select(Int8 mask, float a, float b) {
+inline void select(const Int8& mask, float a, float b, Float8& out) {
   const Int8 ia = reinterpret_cast<Int8>(Float8{} + a), ib = reinterpret_cast<Int8>(Float8{} + b);
-  return reinterpret_cast<Float8>((mask & ia) | (~mask & ib));
+  out = reinterpret_cast<Float8>((mask & ia) | (~mask & ib));
 }
 
 }  // namespace
@@ -197,9 +196,7 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
       });
 }
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("default", "arch=x86-64-v3")))
-#endif
+VTS_SIMD_CLONES
 void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
                             std::vector<std::uint32_t>& out) const {
   // The planes in the lanes of 8-float vectors (lanes without a plane:
@@ -220,9 +217,10 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
   const Int8 px = nx >= 0.0f, py = ny >= 0.0f, pz = nz >= 0.0f;  // which box corner is farthest
   walk(
       [&](const Node& node) {
-        const Float8 x = select(px, node.hi[0], node.lo[0]);
-        const Float8 y = select(py, node.hi[1], node.lo[1]);
-        const Float8 z = select(pz, node.hi[2], node.lo[2]);
+        Float8 x, y, z;
+        select(px, node.hi[0], node.lo[0], x);
+        select(py, node.hi[1], node.lo[1], y);
+        select(pz, node.hi[2], node.lo[2], z);
         return !any_lane(w + nx * x + ny * y + nz * z < 0.0f);
       },
       [&](std::uint32_t i) {
