@@ -29,6 +29,7 @@
 #include "sensor/error_model.h"
 #include "sensor/mesh_bvh.h"
 #include "sensor/rays.h"
+#include "sensor/simd_clones.h"
 #include "shaders/embedded.h"
 
 namespace vts {
@@ -250,9 +251,7 @@ static_assert(sizeof(StreamVertex) == 20);
 // it misses nothing the exact test would find. Branch-free, so the loop
 // vectorizes (cloned for AVX2 and AVX-512 with GCC on x86-64; no FMA
 // contraction in this file, so every clone gives the same answer).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#endif
+VTS_SIMD_CLONES
 int float_filter(const float* __restrict dx, const float* __restrict dy, const float* __restrict dz,
                  const float* __restrict tmax, int j0, int j1, std::array<float, 10> k,
                  int* __restrict maybe) {
@@ -287,9 +286,7 @@ struct SightFrame {
   double cx, cy, cz, xax, xay, xaz, zax, zay, zaz;
   double r[9];  // row-major
 };
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#endif
+VTS_SIMD_CLONES
 void sight_lines(int n, const float* __restrict range, const double* __restrict dir_x,
                  const double* __restrict dir_y, const double* __restrict dir_z, const SightFrame f,
                  double* __restrict zc, double* __restrict q, double* __restrict image_col,
@@ -339,6 +336,8 @@ class ShadowTester {
     q_.resize(n);
     zc_.resize(n);
     for (auto* v : {&all_zc_, &all_q_, &all_image_col_, &all_wx_, &all_wy_, &all_wz_, &all_tmax_}) v->resize(n);
+    lit_before_.resize(n);
+    cos_theta_ = za_.z();
   }
 
   // Clears out.camera_visible where a triangle hides the lit point from the
@@ -361,6 +360,7 @@ class ShadowTester {
     // to test), in column order.
     int m = 0;
     for (int i = 0; i < n; ++i) {
+      lit_before_[i] = m;
       if (!out.valid[i] || !(all_zc_[i] > 0.0)) continue;
       column_[m] = i;
       zc_[m] = all_zc_[i];
@@ -471,11 +471,12 @@ class ShadowTester {
     }
     candidates_.clear();
     s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
+    if (s_.mesh.closed)
+      for (std::uint32_t e : candidates_) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
 
     // Moeller-Trumbore with the common origin C: per triangle the vectors
     // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
     // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
-    const double* image_col = image_col_.data();
     for (std::uint32_t e : candidates_) {
       // A sight line into a closed solid enters it through a face turned
       // towards the camera; the others need no test.
@@ -495,8 +496,8 @@ class ShadowTester {
           const double ca = va.dot(ya_w_) / za, cb = vb.dot(ya_w_) / zb, cc = vc.dot(ya_w_) / zcc;
           const double lo = std::min({ca, cb, cc}), hi = std::max({ca, cb, cc});
           const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
-          j0 = static_cast<int>(std::lower_bound(image_col + a, image_col + b + 1, lo - slack) - image_col);
-          j1 = static_cast<int>(std::upper_bound(image_col + j0, image_col + b + 1, hi + slack) - image_col);
+          j0 = first_image_col(lo - slack, a, b + 1, false);
+          j1 = first_image_col(hi + slack, j0, b + 1, true);
           if (j0 >= j1) continue;
         }
       }
@@ -525,16 +526,29 @@ class ShadowTester {
   }
 
   // The exact test (double) of one sight line against one triangle.
+  // The first j in [begin, end) with image_col_[j] >= v (or > v when
+  // `above`): std::lower_bound (upper_bound) on the growing image columns,
+  // started from the lit point of the profile column whose image column v
+  // is (y'/z' = t / cos(theta) on the laser plane) and stepped from there.
+  int first_image_col(double v, int begin, int end, bool above) const {
+    const int n = s_.desc.points;
+    const double column = (v * cos_theta_ / s_.tan_half_fan + 1.0) * 0.5 * n - 0.5;
+    int j = !(column > 0.0) ? begin : column >= n ? end : lit_before_[static_cast<int>(column)];
+    j = std::clamp(j, begin, end);
+    auto before = [&](int k) { return above ? image_col_[k] <= v : image_col_[k] < v; };
+    while (j > begin && !before(j - 1)) --j;
+    while (j < end && before(j)) ++j;
+    return j;
+  }
+
+  // Branch-free (the outcome is unpredictable).
   static int crosses(const Eigen::Vector3d& d, const Eigen::Vector3d& av, const Eigen::Vector3d& bv,
                      const Eigen::Vector3d& qv, double tq, double tmax) {
-    double det = d.dot(av), un = d.dot(bv), vn = d.dot(qv), tn = tq;
-    if (det < 0.0) {
-      det = -det;
-      un = -un;
-      vn = -vn;
-      tn = -tn;
-    }
-    return det > 0.0 && un >= 0.0 && vn >= 0.0 && un + vn <= det && tn > 0.0 && tn < det * tmax;
+    const double sdet = d.dot(av);
+    const double sign = sdet < 0.0 ? -1.0 : 1.0;
+    const double det = sdet * sign, un = d.dot(bv) * sign, vn = d.dot(qv) * sign, tn = tq * sign;
+    return int(det > 0.0) & int(un >= 0.0) & int(vn >= 0.0) & int(un + vn <= det) & int(tn > 0.0) &
+           int(tn < det * tmax);
   }
 
   const SharedScene& s_;
@@ -548,6 +562,8 @@ class ShadowTester {
   std::vector<double> tmax_d_;      // tmax_ in double
   std::vector<double> image_col_;   // y'/z': grows with the column
   std::vector<double> q_, zc_;      // x'/z' and z'
+  std::vector<int> lit_before_;  // per column: lit points in front of the camera before it
+  double cos_theta_ = 1.0;        // z' . z: image column y'/z' = t / cos_theta on the laser plane
   // sight_lines' output, per column.
   std::vector<double> all_zc_, all_q_, all_image_col_, all_wx_, all_wy_, all_wz_, all_tmax_;
   std::array<std::pair<int, int>, 128> runs_{};
@@ -840,6 +856,9 @@ class Worker {
         const Eigen::Matrix3d rt = poses[k].linear().transpose();
         const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
         segments_.clear();
+        // The planes (for the facing test) lie apart from the corners the
+        // hierarchy just read: fetch them all ahead of use.
+        for (std::uint32_t e : row_entries_[k - k0]) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
         for (std::uint32_t e : row_entries_[k - k0]) slice(e, rt, origin_c);
         join_collinear();
         for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "sensor/fast_math.h"
+#include "sensor/simd_clones.h"
 #include "sensor/rays.h"
 
 namespace vts {
@@ -69,11 +70,6 @@ class Draws {
 // The draws every column needs, a whole profile at a time in loops without
 // branches, so that they vectorize (cloned for AVX2 and AVX-512 with GCC on
 // x86-64; the clones compute the same values).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define VTS_SIMD_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
-#else
-#define VTS_SIMD_CLONES
-#endif
 
 // out[i] = Draws::uniform(i, p), keys = column_keys + p * n.
 VTS_SIMD_CLONES void uniforms(std::uint64_t key, const std::uint64_t* __restrict keys, int n,

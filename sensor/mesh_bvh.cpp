@@ -10,6 +10,8 @@
 #include <immintrin.h>
 #endif
 
+#include "sensor/simd_clones.h"
+
 namespace vts {
 namespace {
 
@@ -18,16 +20,13 @@ namespace {
 constexpr std::uint32_t kLeafSize = 16;
 
 // Eight floats (GCC/Clang vector extension): one lane per plane of a query.
-// AVX when the build targets it, two SSE registers otherwise. (GCC notes that
-// passing them by value changes with AVX: only inline helpers here do.)
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
+// AVX when the build targets it, two SSE registers otherwise. (Passed by
+// reference: GCC warns that passing them by value changes with AVX.)
 using Float8 = float __attribute__((vector_size(32)));
 using Int8 = std::int32_t __attribute__((vector_size(32)));
 
 // Whether some lane of a comparison's result is true.
-inline bool any_lane(Int8 m) {
+inline bool any_lane(const Int8& m) {
 #if defined(__AVX__)
   return _mm256_movemask_ps(reinterpret_cast<__m256>(m)) != 0;
 #elif defined(__SSE2__)
@@ -43,9 +42,9 @@ inline bool any_lane(Int8 m) {
 }
 
 // Per lane: mask ? a : b (as bits: GCC scalarizes the vector ?: here).
-inline Float8 select(Int8 mask, float a, float b) {
+inline void select(const Int8& mask, float a, float b, Float8& out) {
   const Int8 ia = reinterpret_cast<Int8>(Float8{} + a), ib = reinterpret_cast<Int8>(Float8{} + b);
-  return reinterpret_cast<Float8>((mask & ia) | (~mask & ib));
+  out = reinterpret_cast<Float8>((mask & ia) | (~mask & ib));
 }
 
 }  // namespace
@@ -122,7 +121,7 @@ void MeshBvh::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
 }
 
 template <class Visible, class Leaf>
-void MeshBvh::walk(Visible visible, Leaf leaf) const {
+[[gnu::always_inline]] inline void MeshBvh::walk(Visible visible, Leaf leaf) const {
   if (nodes_.empty()) return;
   // Depth stays below 64: median splits halve the count at every level.
   std::uint32_t stack[64];
@@ -144,6 +143,17 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                               double tol_mm, std::span<std::vector<std::uint32_t>> out) const {
   if (d.empty()) return;
+  // The offsets in increasing order (a triangle crosses a contiguous run of
+  // them: found by binary search instead of testing every one).
+  constexpr std::size_t kMaxSorted = 64;
+  std::array<std::pair<double, std::uint32_t>, kMaxSorted> sorted;
+  const bool use_sorted = d.size() <= kMaxSorted;
+  if (use_sorted) {
+    for (std::size_t k = 0; k < d.size(); ++k) sorted[k] = {d[k], static_cast<std::uint32_t>(k)};
+    std::sort(sorted.begin(), sorted.begin() + d.size());
+  }
+  const double spread = use_sorted && d.size() > 1 ? sorted[d.size() - 1].first - sorted[0].first : 0.0;
+  const double per_spacing = spread > 0.0 ? double(d.size() - 1) / spread : 0.0;  // 1 / mean spacing
   const auto [d_min, d_max] = std::minmax_element(d.begin(), d.end());
   const double mid = 0.5 * (*d_min + *d_max), half = 0.5 * (*d_max - *d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
@@ -165,11 +175,28 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           lo = std::min(lo, s);
           hi = std::max(hi, s);
         }
-        for (std::size_t k = 0; k < d.size(); ++k)
-          if (lo <= d[k] + tol_mm && hi >= d[k] - tol_mm) out[k].push_back(i);
+        if (!use_sorted) {
+          for (std::size_t k = 0; k < d.size(); ++k)
+            if (lo <= d[k] + tol_mm && hi >= d[k] - tol_mm) out[k].push_back(i);
+          return;
+        }
+        // Both tests are monotonic in the offset: the first offset with
+        // lo <= d + tol, then on while hi >= d - tol. The first is guessed
+        // from the mean spacing (exact for a path of equal steps), then
+        // stepped to.
+        const std::size_t count = d.size();
+        std::size_t k = 0;
+        if (per_spacing > 0.0) {
+          const double g = (lo - tol_mm - sorted[0].first) * per_spacing;
+          k = g <= 0.0 ? 0 : std::min(count - 1, static_cast<std::size_t>(g));
+        }
+        while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;
+        while (k < count && !(lo <= sorted[k].first + tol_mm)) ++k;
+        for (; k < count && hi >= sorted[k].first - tol_mm; ++k) out[sorted[k].second].push_back(i);
       });
 }
 
+VTS_SIMD_CLONES
 void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
                             std::vector<std::uint32_t>& out) const {
   // The planes in the lanes of 8-float vectors (lanes without a plane:
@@ -190,9 +217,10 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
   const Int8 px = nx >= 0.0f, py = ny >= 0.0f, pz = nz >= 0.0f;  // which box corner is farthest
   walk(
       [&](const Node& node) {
-        const Float8 x = select(px, node.hi[0], node.lo[0]);
-        const Float8 y = select(py, node.hi[1], node.lo[1]);
-        const Float8 z = select(pz, node.hi[2], node.lo[2]);
+        Float8 x, y, z;
+        select(px, node.hi[0], node.lo[0], x);
+        select(py, node.hi[1], node.lo[1], y);
+        select(pz, node.hi[2], node.lo[2], z);
         return !any_lane(w + nx * x + ny * y + nz * z < 0.0f);
       },
       [&](std::uint32_t i) {
