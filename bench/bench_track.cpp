@@ -1,12 +1,18 @@
 // Profiles per second of the seam tracker on ideal 512-point profiles of the
 // built-in cells (generated once with the Embree reference along each cell's
 // path). items_per_second = profiles. Target: at most 5 us per profile.
+// BM_TrackNoisy: the same profiles through the error model (mspot, matte
+// steel, seed 1), with surface_tol_mm set from the sensor's resolution as
+// tests/sensor/tracker_noisy_test.cpp does.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "sensor/cell.h"
+#include "sensor/error_model.h"
 #include "sensor/reference_source.h"
 #include "tracker/tracker.h"
 
@@ -14,16 +20,35 @@ namespace {
 
 namespace tk = vts::tracker;
 
-void BM_Track(benchmark::State& state, const std::string& cell_name, tk::JointType joint) {
+void BM_Track(benchmark::State& state, const std::string& cell_name, tk::JointType joint, bool noisy) {
   auto cell = vts::builtin_cell(cell_name);
   cell->scanner.points = 512;
   auto source = vts::make_reference_source(cell->scanner, cell->mesh());
   std::vector<vts::Profile> profiles(64);
-  for (std::size_t i = 0; i < profiles.size(); ++i)
-    source->scan(cell->path.pose_at(static_cast<std::int64_t>(i)), profiles[i]);
+  vts::ScanState noise;
+  noise.seed = 1;
+  double range_sum = 0.0;
+  int range_count = 0;
+  for (std::size_t i = 0; i < profiles.size(); ++i) {
+    vts::Profile ideal;
+    source->scan(cell->path.pose_at(static_cast<std::int64_t>(i)), ideal);
+    ideal.index = static_cast<std::int64_t>(i);
+    for (int k = 0; k < ideal.size(); ++k)
+      if (ideal.valid[k]) range_sum += ideal.z_mm[k], ++range_count;
+    if (noisy)
+      vts::apply_error_model(cell->scanner, ideal, noise, profiles[i]);
+    else
+      profiles[i] = ideal;
+  }
 
   tk::TrackerParams params;
   params.joint = joint;
+  if (noisy && range_count > 0) {
+    // 3 sigma of one point at the mean range: speckle and quantization.
+    const double z = range_sum / range_count;
+    const double noise_mm = vts::depth_noise_mm(cell->scanner, z), step_mm = vts::depth_step_mm(cell->scanner, z);
+    params.surface_tol_mm = std::max(0.02, 3.0 * std::sqrt(noise_mm * noise_mm + step_mm * step_mm / 12.0));
+  }
   if (joint == tk::JointType::Lap) params.lap.upper_thickness_mm = cell->workpieces.front().params.thickness_mm;
   tk::Tracker tracker(params);
   tk::TrackResult result;
@@ -47,8 +72,11 @@ const int registered = [] {
                                                          {"static-B", tk::JointType::Fillet}};
   for (const auto& [cell, joint] : cases) {
     const std::string label = std::string(cell) == "static-B" ? "static-B" : std::string(to_string(joint));
-    const std::string name = "BM_Track/" + label;
-    benchmark::RegisterBenchmark(name.c_str(), BM_Track, std::string(cell), joint)->Unit(benchmark::kMicrosecond);
+    for (bool noisy : {false, true}) {
+      const std::string name = (noisy ? "BM_TrackNoisy/" : "BM_Track/") + label;
+      benchmark::RegisterBenchmark(name.c_str(), BM_Track, std::string(cell), joint, noisy)
+          ->Unit(benchmark::kMicrosecond);
+    }
   }
   return 0;
 }();
