@@ -97,9 +97,8 @@ enum ColumnFlag : std::int32_t {
   kFlagPeakLost = 8,       // the peak behind the laser or outside the image rows
 };
 
-// What measure_columns needs of the scanner and the profile.
+// What measure_columns needs of the scanner besides its camera.
 struct ColumnParams {
-  double u_inf_px, k_mm_px, half_height_px, f_px, cos_theta, half_width_px;
   double rough_prob, rough_min_mm, rough_span_mm;
   double cos_max_incidence, drop_normal, drop_span;
   double step_px, height_px;
@@ -120,7 +119,7 @@ VTS_SIMD_CLONES void measure_columns(
     const float* __restrict range_ideal, const double* __restrict tan, const double* __restrict secant,
     const float* __restrict cluster, const double* __restrict u_drop, const double* __restrict u_hit,
     const double* __restrict u_off, const double* __restrict u_sign, const double* __restrict noise,
-    const ColumnParams p, std::int32_t* __restrict flags, float* __restrict y_out,
+    const CameraModel cam, const ColumnParams p, std::int32_t* __restrict flags, float* __restrict y_out,
     float* __restrict z_out, float* __restrict range_out, float* __restrict intensity_out) {
   for (int i = 0; i < n; ++i) {
     const double cos_inc = cos_incidence[i];
@@ -132,17 +131,15 @@ VTS_SIMD_CLONES void measure_columns(
     const double rough = u_hit[i] < p.rough_prob ? (u_sign[i] < 0.5 ? -mag : mag) : 0.0;
     const double range = rt + (cluster[i] != 0.0f ? double(cluster[i]) : rough);
     const double z_peak = double(z_ideal[i]) * (range / rt);
-    const double row = ((p.u_inf_px - p.k_mm_px / z_peak) + p.half_height_px) + noise[i];
+    const double row = (image_row_px(cam, z_peak) + cam.half_height_px) + noise[i];
     const double row_q = p.step_px * round_half_away(row / p.step_px);
-    const double den = p.u_inf_px - (row_q - p.half_height_px);  // depth_of_row_mm
-    const double z_den = p.k_mm_px / den;  // computed either way: no branch
-    const double z = den > 0.0 ? z_den : 0.0;
+    const double z = depth_of_row_mm(cam, row_q - cam.half_height_px);
     const int peak_lost = !((range > 0.0) & (row_q >= 0.0) & (row_q < p.height_px) & (z > 0.0));
     const double a = p.intensity_ref_mm / rt;
     const double v = p.reflectivity * cos_inc * a * a;
     const double intensity = v < 0.0 ? 0.0 : (1.0 < v ? 1.0 : v);  // std::clamp(v, 0, 1)
     flags[i] = (cos_inc < p.cos_max_incidence ? kFlagGrazing : 0) |
-               (std::abs(p.f_px * t / p.cos_theta) > p.half_width_px ? kFlagOutsideColumns : 0) |
+               (std::abs(cam.f_px * t / cam.cos_theta) > cam.half_width_px ? kFlagOutsideColumns : 0) |
                (u_drop[i] < p_drop ? kFlagDropout : 0) | (peak_lost ? kFlagPeakLost : 0);
     z_out[i] = static_cast<float>(z);
     y_out[i] = static_cast<float>(t * z);
@@ -164,7 +161,8 @@ void cache_columns(const ScannerDesc& desc, ScanState& state) {
   state.cluster_offset_mm.resize(n);
   state.column_secant.resize(n);
   for (int i = 0; i < n; ++i) state.column_secant[i] = std::sqrt(1.0 + state.column_tan[i] * state.column_tan[i]);
-  for (auto* v : {&state.draw_a, &state.draw_b, &state.draw_c, &state.draw_d, &state.draw_e}) v->resize(n);
+  for (auto* v : {&state.u_drop, &state.noise_px, &state.u_rough_hit, &state.u_rough_size, &state.u_rough_sign})
+    v->resize(n);
   state.flags.resize(n);
   state.cached_points = n;
   state.cached_fan_deg = desc.fan_deg;
@@ -258,12 +256,13 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
   // overrides an earlier one. Every column's draws are made whether or not it
   // is lit, so both sources see the same clusters.
   std::fill(state.cluster_offset_mm.begin(), state.cluster_offset_mm.end(), 0.0f);
-  double* const u_a = state.draw_a.data();
+  double* const u_drop = state.u_drop.data();
   if (!desc.ideal && desc.shiny_cluster_prob > 0.0) {
     const int max_len = desc.shiny_cluster_max_points;
-    uniforms(key, keys + kShinyStart * n, n, u_a);
+    double* const u_start = u_drop;  // the dropout draws overwrite them below
+    uniforms(key, keys + kShinyStart * n, n, u_start);
     for (int j = 0; j < n; ++j) {
-      if (!(u_a[j] < desc.shiny_cluster_prob)) continue;
+      if (!(u_start[j] < desc.shiny_cluster_prob)) continue;
       const int len = std::min(max_len, 1 + static_cast<int>(draws.uniform(j, kShinyLength) * max_len));
       const double mag = desc.shiny_offset_min_mm +
                          (desc.shiny_offset_max_mm - desc.shiny_offset_min_mm) *
@@ -306,14 +305,12 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
     return;
   }
 
-  // Every column's draws, and the image row of its peak (the lit point, or
-  // one displaced along the column ray by a reflection cluster or a rough
-  // surface outlier), a whole profile at a time (peak_rows vectorizes).
-  double* const u_drop = state.draw_a.data();
-  double* const noise = state.draw_b.data();
-  double* const u_hit = state.draw_c.data();
-  double* const u_off = state.draw_d.data();
-  double* const u_sign = state.draw_e.data();
+  // Every column's draws, then the model's arithmetic for every column, a
+  // whole profile at a time (uniforms, normals and measure_columns vectorize).
+  double* const noise = state.noise_px.data();
+  double* const u_hit = state.u_rough_hit.data();
+  double* const u_off = state.u_rough_size.data();
+  double* const u_sign = state.u_rough_sign.data();
   uniforms(key, keys + kDropout * n, n, u_drop);
   if (desc.speckle_px > 0.0)
     normals(key, keys + kNoiseA * n, keys + kNoiseB * n, n, desc.speckle_px, noise);
@@ -329,43 +326,42 @@ void apply_error_model(const ScannerDesc& desc, const Profile& ideal, ScanState&
     std::fill(u_off, u_off + n, 0.0);
     std::fill(u_sign, u_sign + n, 0.0);
   }
-  const ColumnParams params{cam.u_inf_px, cam.k_mm_px, cam.half_height_px, cam.f_px, cam.cos_theta,
-                            cam.half_width_px, desc.rough_outlier_prob, desc.rough_offset_min_mm,
+  const ColumnParams params{desc.rough_outlier_prob, desc.rough_offset_min_mm,
                             desc.rough_offset_max_mm - desc.rough_offset_min_mm, cos_max_incidence,
                             desc.dropout_prob_normal, desc.dropout_prob_grazing - desc.dropout_prob_normal,
                             step, height, desc.reflectivity, desc.intensity_ref_range_mm};
   std::int32_t* const flags = state.flags.data();
   measure_columns(n, ideal.cos_incidence.data(), ideal.z_mm.data(), ideal.range_mm.data(),
                   state.column_tan.data(), state.column_secant.data(), state.cluster_offset_mm.data(),
-                  u_drop, u_hit, u_off, u_sign, noise, params, flags, m.y_mm.data(), m.z_mm.data(),
+                  u_drop, u_hit, u_off, u_sign, noise, cam, params, flags, m.y_mm.data(), m.z_mm.data(),
                   m.range_mm.data(), m.intensity.data());
   // What becomes of each column, in the order the model decides it: unlit;
   // outside the image-processing region; beyond the incidence limit; in
   // camera shadow; outside the image columns; a dropout; the peak lost.
   for (int i = 0; i < n; ++i) {
     const std::int32_t f = flags[i];
-    std::int64_t* lost = nullptr;
-    if (!ideal.valid[i]) lost = nullptr;
-    else if (i < desc.roi_first_column || i > roi_last) lost = &state.outside_roi;
+    std::int64_t* lost = nullptr;  // the counter of the rule that ends the column
+    if (!ideal.valid[i]) {
+      m.y_mm[i] = m.z_mm[i] = m.range_mm[i] = m.intensity[i] = 0.0f;
+      continue;
+    }
+    ++state.lit;
+    if (i < desc.roi_first_column || i > roi_last) lost = &state.outside_roi;
     else if (f & kFlagGrazing) lost = &state.grazing;
     else if (!ideal.camera_visible[i]) lost = &state.shadowed;
     else if (f & kFlagOutsideColumns) lost = &state.outside_image;
     else if (f & kFlagDropout) lost = &state.dropouts;
     else if (f & kFlagPeakLost) lost = &state.outside_image;
-    else {
-      ++state.lit;
-      m.valid[i] = 1;
-      ++state.measured;
-      const bool shiny = state.cluster_offset_mm[i] != 0.0f;
-      state.shiny_outliers += shiny;
-      state.rough_outliers += !shiny && u_hit[i] < desc.rough_outlier_prob;
+    if (lost) {
+      ++*lost;
+      m.y_mm[i] = m.z_mm[i] = m.range_mm[i] = m.intensity[i] = 0.0f;
       continue;
     }
-    if (ideal.valid[i]) {
-      ++state.lit;
-      ++*lost;
-    }
-    m.y_mm[i] = m.z_mm[i] = m.range_mm[i] = m.intensity[i] = 0.0f;
+    m.valid[i] = 1;
+    ++state.measured;
+    const bool shiny = state.cluster_offset_mm[i] != 0.0f;
+    state.shiny_outliers += shiny;
+    state.rough_outliers += !shiny && u_hit[i] < desc.rough_outlier_prob;
   }
 }
 

@@ -50,8 +50,11 @@ struct ScanState {
   std::vector<double> column_tan;        // t_i of sensor/rays.h
   std::vector<double> column_secant;     // sqrt(1 + t_i^2)
   std::vector<std::uint64_t> column_keys;  // per purpose and column: the draws' column hash
-  std::vector<double> draw_a, draw_b, draw_c, draw_d, draw_e;  // per column: one profile's draws
-  std::vector<std::int32_t> flags;  // per column: conditions found (error_model.cpp)
+  // One profile's draws per column: the dropout draw (first the reflection
+  // clusters' start draw), the speckle noise in px, the rough outlier's hit,
+  // size and sign draws; and the conditions found (error_model.cpp).
+  std::vector<double> u_drop, noise_px, u_rough_hit, u_rough_size, u_rough_sign;
+  std::vector<std::int32_t> flags;
   int cached_points = 0;
   double cached_fan_deg = 0.0;
 };
