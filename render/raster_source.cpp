@@ -312,8 +312,8 @@ void sight_lines(int n, const float* __restrict range, const double* __restrict 
 // sheet of sight lines: a straight run of points gives a thin sheet), one
 // spatial query per run finds the triangles near its sheet, and each
 // candidate is intersected with the sight lines it can cross: those whose
-// image column (seen from C) lies within the candidate's, found by binary
-// search since image columns grow with profile columns. Regions are set up
+// image column (seen from C) lies within the candidate's, found by search
+// since image columns grow with profile columns. Regions are set up
 // in the sensor frame, the tests run in the mesh-centred world frame where
 // the hierarchy keeps the corners. No allocation once the scratch has grown.
 class ShadowTester {

@@ -144,18 +144,21 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
                               double tol_mm, std::span<std::vector<std::uint32_t>> out) const {
   if (d.empty()) return;
   // The offsets in increasing order (a triangle crosses a contiguous run of
-  // them: found by binary search instead of testing every one).
+  // them: found from the mean spacing instead of testing every one), at
+  // most kMaxSorted per traversal.
   constexpr std::size_t kMaxSorted = 64;
-  std::array<std::pair<double, std::uint32_t>, kMaxSorted> sorted;
-  const bool use_sorted = d.size() <= kMaxSorted;
-  if (use_sorted) {
-    for (std::size_t k = 0; k < d.size(); ++k) sorted[k] = {d[k], static_cast<std::uint32_t>(k)};
-    std::sort(sorted.begin(), sorted.begin() + d.size());
+  if (d.size() > kMaxSorted) {
+    crossing_planes(n, d.first(kMaxSorted), box_lo, box_hi, tol_mm, out.first(kMaxSorted));
+    crossing_planes(n, d.subspan(kMaxSorted), box_lo, box_hi, tol_mm, out.subspan(kMaxSorted));
+    return;
   }
-  const double spread = use_sorted && d.size() > 1 ? sorted[d.size() - 1].first - sorted[0].first : 0.0;
-  const double per_spacing = spread > 0.0 ? double(d.size() - 1) / spread : 0.0;  // 1 / mean spacing
-  const auto [d_min, d_max] = std::minmax_element(d.begin(), d.end());
-  const double mid = 0.5 * (*d_min + *d_max), half = 0.5 * (*d_max - *d_min) + tol_mm;
+  const std::size_t count = d.size();
+  std::array<std::pair<double, std::uint32_t>, kMaxSorted> sorted;
+  for (std::size_t k = 0; k < count; ++k) sorted[k] = {d[k], static_cast<std::uint32_t>(k)};
+  std::sort(sorted.begin(), sorted.begin() + count);
+  const double d_min = sorted[0].first, d_max = sorted[count - 1].first;
+  const double per_spacing = d_max > d_min ? double(count - 1) / (d_max - d_min) : 0.0;  // 1 / mean spacing
+  const double mid = 0.5 * (d_min + d_max), half = 0.5 * (d_max - d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
   walk(
       [&](const Node& node) {
@@ -175,19 +178,13 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           lo = std::min(lo, s);
           hi = std::max(hi, s);
         }
-        if (!use_sorted) {
-          for (std::size_t k = 0; k < d.size(); ++k)
-            if (lo <= d[k] + tol_mm && hi >= d[k] - tol_mm) out[k].push_back(i);
-          return;
-        }
         // Both tests are monotonic in the offset: the first offset with
         // lo <= d + tol, then on while hi >= d - tol. The first is guessed
         // from the mean spacing (exact for a path of equal steps), then
         // stepped to.
-        const std::size_t count = d.size();
         std::size_t k = 0;
         if (per_spacing > 0.0) {
-          const double g = (lo - tol_mm - sorted[0].first) * per_spacing;
+          const double g = (lo - tol_mm - d_min) * per_spacing;
           k = g <= 0.0 ? 0 : std::min(count - 1, static_cast<std::size_t>(g));
         }
         while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;

@@ -1,0 +1,98 @@
+// sensor/mesh_bvh.h against brute force over every triangle: the laser-plane
+// query (crossing_planes) finds exactly the triangles a direct test finds,
+// for any number of parallel planes; the region query (inside_planes, in
+// float) keeps at least every triangle the exact double test keeps.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "sensor/mesh_bvh.h"
+
+using namespace vts;
+
+namespace {
+
+// A seeded soup of small triangles in a 200 mm cube.
+MeshBvh random_soup(int triangles, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> at(-100.0f, 100.0f), off(-3.0f, 3.0f);
+  std::vector<float> positions;
+  std::vector<std::uint32_t> indices;
+  for (int t = 0; t < triangles; ++t) {
+    const float cx = at(rng), cy = at(rng), cz = at(rng);
+    for (int v = 0; v < 3; ++v) {
+      indices.push_back(static_cast<std::uint32_t>(positions.size() / 3));
+      positions.insert(positions.end(), {cx + off(rng), cy + off(rng), cz + off(rng)});
+    }
+  }
+  return MeshBvh(positions, indices);
+}
+
+}  // namespace
+
+TEST_CASE("mesh bvh: crossing_planes finds what a direct test finds for 1 to 150 planes", "[bvh]") {
+  const MeshBvh bvh = random_soup(20000, 3);
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  const Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(-1e3), box_hi = Eigen::Vector3d::Constant(1e3);
+  const double tol = 0.01;
+  for (int planes : {1, 16, 64, 65, 150}) {
+    std::vector<double> d(planes);
+    for (int k = 0; k < planes; ++k) d[k] = -90.0 + 170.0 * k / std::max(1, planes - 1) + (k % 3) * 0.1;
+    std::reverse(d.begin(), d.end());  // not in increasing order
+    std::vector<std::vector<std::uint32_t>> out(planes);
+    bvh.crossing_planes(n, d, box_lo, box_hi, tol, out);
+    for (int k = 0; k < planes; ++k) {
+      std::set<std::uint32_t> expected;
+      for (std::uint32_t e = 0; e < bvh.triangle_count(); ++e) {
+        const auto& c = bvh.corners(e);
+        double lo = 1e300, hi = -1e300;
+        for (int v = 0; v < 3; ++v) {
+          const double s = n[0] * c[3 * v] + n[1] * c[3 * v + 1] + n[2] * c[3 * v + 2];
+          lo = std::min(lo, s);
+          hi = std::max(hi, s);
+        }
+        if (lo <= d[k] + tol && hi >= d[k] - tol) expected.insert(e);
+      }
+      INFO(planes << " planes, plane " << k);
+      CHECK(std::set<std::uint32_t>(out[k].begin(), out[k].end()) == expected);
+      CHECK(out[k].size() == expected.size());  // each once
+    }
+  }
+}
+
+TEST_CASE("mesh bvh: inside_planes keeps every triangle the exact test keeps", "[bvh]") {
+  const MeshBvh bvh = random_soup(20000, 4);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> dir(0.0, 1.0);
+  std::uniform_real_distribution<double> offset(-20.0, 60.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Vector4d> planes;
+    for (int k = 0; k < 1 + trial % 8; ++k) {
+      const Eigen::Vector3d nv = Eigen::Vector3d(dir(rng), dir(rng), dir(rng)).normalized();
+      planes.emplace_back(nv.x(), nv.y(), nv.z(), offset(rng));
+    }
+    std::vector<std::uint32_t> out;
+    bvh.inside_planes(planes, out);
+    const std::set<std::uint32_t> got(out.begin(), out.end());
+    int expected = 0;
+    for (std::uint32_t e = 0; e < bvh.triangle_count(); ++e) {
+      const auto& c = bvh.corners(e);
+      bool outside_one = false;
+      for (const Eigen::Vector4d& p : planes) {
+        bool all_out = true;
+        for (int v = 0; v < 3; ++v)
+          all_out = all_out && p[0] * c[3 * v] + p[1] * c[3 * v + 1] + p[2] * c[3 * v + 2] + p[3] < 0.0;
+        outside_one = outside_one || all_out;
+      }
+      if (outside_one) continue;
+      ++expected;
+      INFO("trial " << trial << ", entry " << e);
+      CHECK(got.count(e) == 1);
+    }
+    CHECK(got.size() == out.size());  // each once
+    CHECK(static_cast<int>(out.size()) >= expected);
+  }
+}
