@@ -333,8 +333,6 @@ class ShadowTester {
     d_.resize(n);
     tmax_d_.resize(n);
     image_col_.resize(n);
-    q_.resize(n);
-    zc_.resize(n);
     for (auto* v : {&all_zc_, &all_q_, &all_image_col_, &all_wx_, &all_wy_, &all_wz_, &all_tmax_}) v->resize(n);
     lit_before_.resize(n);
     cos_theta_ = za_.z();
@@ -363,8 +361,6 @@ class ShadowTester {
       lit_before_[i] = m;
       if (!out.valid[i] || !(all_zc_[i] > 0.0)) continue;
       column_[m] = i;
-      zc_[m] = all_zc_[i];
-      q_[m] = all_q_[i];
       image_col_[m] = all_image_col_[i];
       // The candidates are tested in the mesh-centred world frame, where
       // the hierarchy keeps their corners: no transform per candidate.
@@ -427,9 +423,10 @@ class ShadowTester {
     const Eigen::Vector3d c = s_.camera_mm;
     double q_lo = std::numeric_limits<double>::infinity(), q_hi = -q_lo, zc_max = 0.0;
     for (int j = a; j <= b; ++j) {
-      q_lo = std::min(q_lo, q_[j]);
-      q_hi = std::max(q_hi, q_[j]);
-      zc_max = std::max(zc_max, zc_[j]);
+      const int i = column_[j];
+      q_lo = std::min(q_lo, all_q_[i]);
+      q_hi = std::max(q_hi, all_q_[i]);
+      zc_max = std::max(zc_max, all_zc_[i]);
     }
     // The region holding every sight line of the run (sensor frame, kept
     // where n.p + w >= 0): between the epipolar planes of its first and last
@@ -561,7 +558,6 @@ class ShadowTester {
   std::vector<Eigen::Vector3d> d_;  // sight lines, world frame, double
   std::vector<double> tmax_d_;      // tmax_ in double
   std::vector<double> image_col_;   // y'/z': grows with the column
-  std::vector<double> q_, zc_;      // x'/z' and z'
   std::vector<int> lit_before_;  // per column: lit points in front of the camera before it
   double cos_theta_ = 1.0;        // z' . z: image column y'/z' = t / cos_theta on the laser plane
   // sight_lines' output, per column.
