@@ -385,3 +385,31 @@ TEST_CASE("tracker: v-groove root face shorter than the minimum segment size", "
   }
   WARN("short root faces, worst errors: " << worst.str());
 }
+
+// The same sweep with a 4096-column sensor (the largest ScannerDesc allows):
+// its rays lie 0.05 mm apart at 250 mm, so the geometry-derived tolerances
+// above come down to the issue's own figures (track 0.05 mm, gap 0.1 mm)
+// for every fillet, corner, lap and butt scan. A v-groove's bevels are seen
+// at 30 degrees or less (10 when tilted towards one), which spreads the rays
+// along them two to six times wider than on a plate, so where the root edge
+// is bracketed between two rays its tolerance stays the ray spacing there.
+TEST_CASE("tracker: the issue's tolerances where the columns resolve the plate edges", "[tracker][accuracy][fine]") {
+  for (const char* name : {"fillet", "corner", "lap", "butt", "vgroove"}) {
+    const Cell cell = *builtin_cell(name);
+    const Workpiece& w = cell.workpieces.front();
+    Worst worst;
+    int scans = 0, at_issue_tolerance = 0;
+    for (double standoff : kStandoffs)
+      for (double tilt : kTilts)
+        for (double shift : kShifts) {
+          const Scan s = scan(w, standoff, tilt, shift, 4096);
+          const Tol tol = tolerances(s);
+          ++scans;
+          if (tol.track == kTrackTolMm && tol.gap == kGapTolMm && tol.other == kGapTolMm) ++at_issue_tolerance;
+          check_scan(s, standoff, tilt, shift, worst);
+        }
+    if (w.type != JointType::VGroove) CHECK(at_issue_tolerance == scans);
+    WARN(name << " at 4096 columns, " << at_issue_tolerance << " of " << scans
+              << " scans at the issue's tolerances; worst errors: " << worst.str());
+  }
+}
