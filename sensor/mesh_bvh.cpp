@@ -213,14 +213,16 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
   }
   const Int8 px = nx >= 0.0f, py = ny >= 0.0f, pz = nz >= 0.0f;  // which box corner is farthest
   walk(
-      [&](const Node& node) {
+      // always_inline: GCC inlines nothing across the clone's arch=, so a
+      // lambda left out of line would run the default (SSE2) code per call.
+      [&](const Node& node) __attribute__((always_inline)) {
         Float8 x, y, z;
         select(px, node.hi[0], node.lo[0], x);
         select(py, node.hi[1], node.lo[1], y);
         select(pz, node.hi[2], node.lo[2], z);
         return !any_lane(w + nx * x + ny * y + nz * z < 0.0f);
       },
-      [&](std::uint32_t i) {
+      [&](std::uint32_t i) __attribute__((always_inline)) {
         const auto& c = corners_[i];
         const Float8 d0 = w + nx * c[0] + ny * c[1] + nz * c[2];
         const Float8 d1 = w + nx * c[3] + ny * c[4] + nz * c[5];
