@@ -702,7 +702,7 @@ class Worker {
     while (cap < 4 * m) cap *= 2;
     if (slots_.size() < cap) slots_.assign(cap, {});
     ++stamp_;
-    link_.assign(2 * m, kNone);
+    link_.resize(2 * m);
     auto hash = [](const Eigen::Vector2d& p) {
       std::uint64_t a, b;
       std::memcpy(&a, &p.x(), 8);
@@ -713,26 +713,28 @@ class Worker {
     auto point = [&](std::uint32_t end) -> const Eigen::Vector2d& {
       return end & 1 ? segments_[end >> 1].p1 : segments_[end >> 1].p0;
     };
+    // Every end into the table (each slot counts the ends at its point and
+    // keeps the first two), then the ends of two-end points linked; where
+    // three or more meet, none is.
+    slot_of_.resize(2 * m);
     for (std::uint32_t end = 0; end < 2 * m; ++end) {
       const Eigen::Vector2d& p = point(end);
       for (std::size_t h = hash(p) & (cap - 1);; h = (h + 1) & (cap - 1)) {
         Slot& slot = slots_[h];
         if (slot.stamp != stamp_) {
-          slot = {stamp_, end, 1};
-          break;
+          slot = {stamp_, end, kNone, 1};
+        } else if (point(slot.first) != p) {
+          continue;
+        } else if (++slot.count == 2) {
+          slot.second = end;
         }
-        if (point(slot.first) != p) continue;
-        if (++slot.count == 2) {
-          link_[end] = slot.first;
-          link_[slot.first] = end;
-        } else {  // three or more meet here: no joining through this point
-          link_[end] = kNone;
-          link_[slot.first] = kNone;
-          for (std::uint32_t e = 0; e < end; ++e)
-            if (link_[e] != kNone && point(e) == p) link_[e] = kNone;
-        }
+        slot_of_[end] = static_cast<std::uint32_t>(h);
         break;
       }
+    }
+    for (std::uint32_t end = 0; end < 2 * m; ++end) {
+      const Slot& slot = slots_[slot_of_[end]];
+      link_[end] = slot.count != 2 ? kNone : slot.first == end ? slot.second : slot.first;
     }
     // Walk each chain from one of its ends; join while collinear.
     used_.assign(m, 0);
@@ -918,13 +920,14 @@ class Worker {
   std::array<std::vector<std::uint32_t>, kCullBlock> row_entries_;  // per profile of a block
   std::array<double, kCullBlock> plane_d_{};  // laser plane offsets n . origin of a block
   struct Slot {
-    std::uint32_t stamp = 0, first = 0, count = 0;
+    std::uint32_t stamp = 0, first = 0, second = 0, count = 0;
   };
   static constexpr std::uint32_t kNone = ~0u;
   std::vector<Segment> segments_, joined_;  // one profile's cuts
   std::vector<Slot> slots_;                // end point hash table (stamped)
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> link_;        // per segment end: the end it meets, or kNone
+  std::vector<std::uint32_t> slot_of_;     // per segment end: its point's slot
   std::vector<std::uint8_t> used_;
   std::vector<std::uint32_t> readback_;    // per row, column: triangle + 1, 0 = no hit
   GLuint program_ = 0;
