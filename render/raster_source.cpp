@@ -467,7 +467,11 @@ class ShadowTester {
                                         sheet.dot(camera_w_) + dev + kCullMarginMm);
     }
     candidates_.clear();
-    s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_);
+    // On a closed mesh, faces turned away from the camera need no test (see
+    // below); the hierarchy leaves out those clearly turned away.
+    const MeshBvh::Box3 camera{camera_w_, camera_w_};
+    s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_,
+                              s_.mesh.closed ? &camera : nullptr);
     if (s_.mesh.closed)
       for (std::uint32_t e : candidates_) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
 
@@ -835,9 +839,12 @@ class Worker {
       const int rows = k1 - k0;
       Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
       Eigen::Vector3d hi = -lo;
+      MeshBvh::Box3 origins{lo, hi};  // of the block's laser origins
       for (int k = k0; k < k1; ++k) {
         const Eigen::Matrix3d r = poses[k].linear();
         const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+        origins.lo = origins.lo.cwiseMin(origin_c);
+        origins.hi = origins.hi.cwiseMax(origin_c);
         const Eigen::Vector3d far = r.col(2) * reach;
         const Eigen::Vector3d side = r.col(1) * (reach * s_.tan_half_fan);
         lo = lo.cwiseMin(origin_c).cwiseMin(origin_c + far - side).cwiseMin(origin_c + far + side);
@@ -847,8 +854,11 @@ class Worker {
       }
       lo.array() -= kCullMarginMm;
       hi.array() += kCullMarginMm;
+      // Faces turned away from every laser origin of the block (closed
+      // meshes: hidden behind the front) are left out here already; slice()
+      // decides exactly for each profile.
       s_.mesh.bvh.crossing_planes(n_world, std::span(plane_d_.data(), rows), lo, hi, kCullMarginMm,
-                                  std::span(row_entries_.data(), rows));
+                                  std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr);
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
         const Eigen::Matrix3d rt = poses[k].linear().transpose();

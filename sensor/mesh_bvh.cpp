@@ -10,6 +10,8 @@
 #include <immintrin.h>
 #endif
 
+#include <Eigen/Geometry>
+
 #include "sensor/simd_clones.h"
 
 namespace vts {
@@ -139,17 +141,37 @@ template <class Visible, class Leaf>
   }
 }
 
+[[gnu::always_inline]] inline bool MeshBvh::may_face(std::uint32_t i, const Eigen::Vector3d& centre,
+                                                     const Eigen::Vector3d& half) const {
+  const auto& c = corners_[i];
+  const Eigen::Vector3d a(c[0], c[1], c[2]);
+  const Eigen::Vector3d e1 = Eigen::Vector3d(c[3], c[4], c[5]) - a, e2 = Eigen::Vector3d(c[6], c[7], c[8]) - a;
+  const Eigen::Vector3d nrm = e1.cross(e2);
+  // Largest n . (p - a) over the box.
+  const double best = nrm.dot(centre - a) + nrm.cwiseAbs().dot(half);
+  // The corners are float roundings (at most 2^-24 r, r bounding every
+  // coordinate) of the mesh the caller's exact test uses. Moving a by d
+  // changes n . (p - a) by up to |n| d; moving the corners turns n by up to
+  // 2 (|e1| + |e2|) d, which over |p - a| <= 2 sqrt(3) r changes it by up to
+  // 7 (|e1| + |e2|) r d. The margin is 16 times the sum (and covers the double
+  // arithmetic here many times over).
+  const double r = max_abs_coord_ + centre.cwiseAbs().maxCoeff() + half.maxCoeff();
+  const double margin = 0x1p-20 * r * (nrm.norm() + 7.0 * (e1.norm() + e2.norm()) * r);
+  return best >= -margin;
+}
+
 void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
-                              double tol_mm, std::span<std::vector<std::uint32_t>> out) const {
+                              double tol_mm, std::span<std::vector<std::uint32_t>> out,
+                              const Box3* facing) const {
   if (d.empty()) return;
   // The offsets in increasing order (a triangle crosses a contiguous run of
   // them: found from the mean spacing instead of testing every one), at
   // most kMaxSorted per traversal.
   constexpr std::size_t kMaxSorted = 64;
   if (d.size() > kMaxSorted) {
-    crossing_planes(n, d.first(kMaxSorted), box_lo, box_hi, tol_mm, out.first(kMaxSorted));
-    crossing_planes(n, d.subspan(kMaxSorted), box_lo, box_hi, tol_mm, out.subspan(kMaxSorted));
+    crossing_planes(n, d.first(kMaxSorted), box_lo, box_hi, tol_mm, out.first(kMaxSorted), facing);
+    crossing_planes(n, d.subspan(kMaxSorted), box_lo, box_hi, tol_mm, out.subspan(kMaxSorted), facing);
     return;
   }
   const std::size_t count = d.size();
@@ -160,6 +182,11 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
   const double per_spacing = d_max > d_min ? double(count - 1) / (d_max - d_min) : 0.0;  // 1 / mean spacing
   const double mid = 0.5 * (d_min + d_max), half = 0.5 * (d_max - d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
+  Eigen::Vector3d face_centre = Eigen::Vector3d::Zero(), face_half = Eigen::Vector3d::Zero();
+  if (facing) {
+    face_centre = 0.5 * (facing->lo + facing->hi);
+    face_half = 0.5 * (facing->hi - facing->lo);
+  }
   walk(
       [&](const Node& node) {
         double centre = 0.0, extent = 0.0;
@@ -189,13 +216,20 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
         }
         while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;
         while (k < count && !(lo <= sorted[k].first + tol_mm)) ++k;
+        if (k == count || !(hi >= sorted[k].first - tol_mm)) return;
+        if (facing && !may_face(i, face_centre, face_half)) return;
         for (; k < count && hi >= sorted[k].first - tol_mm; ++k) out[sorted[k].second].push_back(i);
       });
 }
 
 VTS_SIMD_CLONES
-void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
-                            std::vector<std::uint32_t>& out) const {
+void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out,
+                            const Box3* facing) const {
+  Eigen::Vector3d face_centre = Eigen::Vector3d::Zero(), face_half = Eigen::Vector3d::Zero();
+  if (facing) {
+    face_centre = 0.5 * (facing->lo + facing->hi);
+    face_half = 0.5 * (facing->hi - facing->lo);
+  }
   // The planes in the lanes of 8-float vectors (lanes without a plane:
   // 0 . p + 1 >= 0, always inside), each made more inclusive by a bound on
   // the float rounding of n . p + w over the mesh's coordinates, so the
@@ -228,7 +262,9 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes,
         const Float8 d1 = w + nx * c[3] + ny * c[4] + nz * c[5];
         const Float8 d2 = w + nx * c[6] + ny * c[7] + nz * c[8];
         // Kept unless some plane has all three corners outside.
-        if (!any_lane((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) out.push_back(i);
+        if (any_lane((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) return;
+        if (facing && !may_face(i, face_centre, face_half)) return;
+        out.push_back(i);
       });
 }
 

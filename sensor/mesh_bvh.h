@@ -39,9 +39,21 @@ class MeshBvh {
   // once, in no particular order. Parallel planes (the laser planes of a
   // straight path) share one traversal, over the slab between the extreme
   // offsets. out.size() must be at least d.size().
+  //
+  // With `facing`, only triangles whose front side faces some point of that
+  // box are kept: a triangle with corners a, b, c (in the order given) is
+  // dropped when every point p of the box lies behind its plane, that is
+  // ((b - a) x (c - a)) . (p - a) < 0, by more than a bound on the rounding
+  // of the corners (so nothing that faces a point of the box, exactly or
+  // within rounding, is dropped). For closed meshes, whose back faces are
+  // always hidden behind front faces.
+  struct Box3 {
+    Eigen::Vector3d lo, hi;
+  };
   void crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                        const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
-                       double tol_mm, std::span<std::vector<std::uint32_t>> out) const;
+                       double tol_mm, std::span<std::vector<std::uint32_t>> out,
+                       const Box3* facing = nullptr) const;
 
   // Entries of the triangles not entirely outside any one of the half-spaces
   // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).
@@ -49,7 +61,9 @@ class MeshBvh {
   // plane is kept. Tested in float, all planes at once, with each plane
   // moved outwards by a bound on the rounding (so nothing the exact test
   // would keep is dropped).
-  void inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out) const;
+  // With `facing`, as in crossing_planes.
+  void inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out,
+                     const Box3* facing = nullptr) const;
 
  private:
   struct Node {
@@ -64,6 +78,9 @@ class MeshBvh {
   // every entry of a visible leaf to `leaf`.
   template <class Visible, class Leaf>
   void walk(Visible visible, Leaf leaf) const;
+  // Whether the triangle at entry i may face a point of the box (see
+  // crossing_planes), given the box's centre and half extent.
+  bool may_face(std::uint32_t i, const Eigen::Vector3d& centre, const Eigen::Vector3d& half) const;
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;            // triangle numbers in leaf order

@@ -9,6 +9,8 @@
 #include <set>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "sensor/mesh_bvh.h"
 
 using namespace vts;
@@ -95,4 +97,81 @@ TEST_CASE("mesh bvh: inside_planes keeps every triangle the exact test keeps", "
     CHECK(got.size() == out.size());  // each once
     CHECK(static_cast<int>(out.size()) >= expected);
   }
+}
+
+// With a facing box, both queries keep every triangle whose front side
+// ((b - a) x (c - a), corners as given) faces some point of the box (checked
+// over the box's corners: n . (p - a) is linear in p), and drop those turned
+// away from all of it: every one by more than 2 mm, and nearly all by more
+// than 0.01 mm (the queries keep a margin for the corners' float rounding,
+// a fraction of a millimetre on these 6 mm triangles 250 mm from the origin;
+// slivers, whose margin grows as their area shrinks, are left out).
+TEST_CASE("mesh bvh: a facing box drops the triangles turned away from it, and only those", "[bvh]") {
+  const MeshBvh bvh = random_soup(20000, 6);
+  auto facing_margin = [&](std::uint32_t e, const MeshBvh::Box3& box) {
+    const auto& c = bvh.corners(e);
+    const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), cc(c[6], c[7], c[8]);
+    const Eigen::Vector3d nrm = (b - a).cross(cc - a);
+    // Slivers (area small against the edges) turn with the rounding of
+    // their corners: the queries' margin grows for them; not checked.
+    const double edges = (b - a).norm() + (cc - a).norm();
+    const bool sliver = nrm.norm() < 0.05 * edges * edges;
+    double best = -1e300;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d p(k & 1 ? box.hi.x() : box.lo.x(), k & 2 ? box.hi.y() : box.lo.y(),
+                              k & 4 ? box.hi.z() : box.lo.z());
+      best = std::max(best, nrm.dot(p - a) / nrm.norm());  // signed distance of the nearest-facing point
+    }
+    return std::pair(best, sliver);
+  };
+  const MeshBvh::Box3 boxes[] = {
+      {Eigen::Vector3d(0.0, 0.0, 150.0), Eigen::Vector3d(0.0, 0.0, 150.0)},    // a point (a camera)
+      {Eigen::Vector3d(-5.0, 20.0, 120.0), Eigen::Vector3d(3.0, 20.0, 120.0)},  // a short path of laser origins
+      {Eigen::Vector3d(-40.0, -10.0, -10.0), Eigen::Vector3d(40.0, 10.0, 10.0)},  // inside the soup
+  };
+  int dropped = 0, kept = 0, away = 0, away_dropped = 0;
+  for (const MeshBvh::Box3& box : boxes) {
+    // Laser planes through the soup.
+    const Eigen::Vector3d n = Eigen::Vector3d(1.0, 0.2, -0.1).normalized();
+    std::vector<double> d = {-30.0, -10.0, 0.0, 25.0};
+    std::vector<std::vector<std::uint32_t>> all(d.size()), faced(d.size());
+    bvh.crossing_planes(n, d, Eigen::Vector3d::Constant(-1e3), Eigen::Vector3d::Constant(1e3), 0.01, all);
+    bvh.crossing_planes(n, d, Eigen::Vector3d::Constant(-1e3), Eigen::Vector3d::Constant(1e3), 0.01, faced, &box);
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const std::set<std::uint32_t> got(faced[k].begin(), faced[k].end());
+      CHECK(got.size() == faced[k].size());
+      for (std::uint32_t e : faced[k]) CHECK(std::count(all[k].begin(), all[k].end(), e) == 1);
+      for (std::uint32_t e : all[k]) {
+        const auto [m, sliver] = facing_margin(e, box);
+        INFO("plane " << k << ", entry " << e << ", facing by " << m << " mm");
+        if (m > 0.0) CHECK(got.count(e) == 1);
+        if (sliver) continue;
+        if (m < -2.0) CHECK(got.count(e) == 0);
+        if (m < -0.01) ++away;
+        if (m < -0.01 && !got.count(e)) ++away_dropped;
+        (got.count(e) ? kept : dropped) += 1;
+      }
+    }
+    // A region: the half space z > -20.
+    const std::vector<Eigen::Vector4d> region = {Eigen::Vector4d(0.0, 0.0, 1.0, 20.0)};
+    std::vector<std::uint32_t> all_in, faced_in;
+    bvh.inside_planes(region, all_in);
+    bvh.inside_planes(region, faced_in, &box);
+    const std::set<std::uint32_t> got(faced_in.begin(), faced_in.end());
+    const std::set<std::uint32_t> every(all_in.begin(), all_in.end());
+    for (std::uint32_t e : faced_in) CHECK(every.count(e) == 1);
+    for (std::uint32_t e : all_in) {
+      const auto [m, sliver] = facing_margin(e, box);
+      INFO("region, entry " << e << ", facing by " << m << " mm");
+      if (m > 0.0) CHECK(got.count(e) == 1);
+      if (sliver) continue;
+      if (m < -2.0) CHECK(got.count(e) == 0);
+      if (m < -0.01) ++away;
+      if (m < -0.01 && !got.count(e)) ++away_dropped;
+    }
+  }
+  CHECK(away_dropped >= 0.95 * away);
+  // The soup faces every way: both outcomes occur.
+  CHECK(dropped > 1000);
+  CHECK(kept > 1000);
 }
