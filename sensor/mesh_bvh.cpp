@@ -149,14 +149,16 @@ template <class Visible, class Leaf>
   const Eigen::Vector3d nrm = e1.cross(e2);
   // Largest n . (p - a) over the box.
   const double best = nrm.dot(centre - a) + nrm.cwiseAbs().dot(half);
+  if (best >= 0.0) return true;
   // The corners are float roundings (at most 2^-24 r, r bounding every
   // coordinate) of the mesh the caller's exact test uses. Moving a by d
   // changes n . (p - a) by up to |n| d; moving the corners turns n by up to
   // 2 (|e1| + |e2|) d, which over |p - a| <= 2 sqrt(3) r changes it by up to
   // 7 (|e1| + |e2|) r d. The margin is 16 times the sum (and covers the double
-  // arithmetic here many times over).
+  // arithmetic here many times over). Lengths taken as sums of |components|
+  // (never shorter, and no square roots).
   const double r = max_abs_coord_ + centre.cwiseAbs().maxCoeff() + half.maxCoeff();
-  const double margin = 0x1p-20 * r * (nrm.norm() + 7.0 * (e1.norm() + e2.norm()) * r);
+  const double margin = 0x1p-20 * r * (nrm.lpNorm<1>() + 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) * r);
   return best >= -margin;
 }
 
