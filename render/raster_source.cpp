@@ -703,7 +703,7 @@ class Worker {
     const std::size_t m = segments_.size();
     if (m < 2) return;
     std::size_t cap = 16;
-    while (cap < 4 * m) cap *= 2;
+    while (cap < 2 * m) cap *= 2;
     if (slots_.size() < cap) slots_.assign(cap, {});
     ++stamp_;
     link_.resize(2 * m);
