@@ -60,7 +60,10 @@ struct SegmentParams {
   double break_min_mm = 0.3;
   double break_ratio = 4.0;
   // At a boundary between two segments a point moves to the neighbour whose
-  // line it fits better, if it lies within this (or 3 rms) of that line.
+  // line it fits better, if it lies within this (or 3 rms) of that line. End
+  // points farther than this (or 4 rms) off their segment's line are detached
+  // (step 4; with TrackerParams::noise_aware_detach, only beyond the
+  // tracker's surface_tol_mm too).
   double fit_tol_mm = 0.02;
 };
 
@@ -95,6 +98,12 @@ struct FilletParams {
   // line (noise can cut a plate in pieces; the piece at the root alone can
   // give a wrong angle), as the corner's faces are.
   bool extend_plates = true;
+  // A gap shows as the flange seen beyond the web's line. Besides the flange's
+  // long segment and the points removed as outliers, the points kept between
+  // the plates (in short pieces) that lie on a plate's line beyond the other
+  // plate's line count as that plate's end: a dropout or one noisy point can
+  // cut the few flange points seen through the gap off as a short piece.
+  bool flange_pieces = true;
 };
 
 struct CornerParams {
@@ -114,6 +123,12 @@ struct LapParams {
   // line (noise can cut a plate in pieces; the piece at the step alone can be
   // several degrees off and fail the parallel test), as butt plates are.
   bool extend_plates = true;
+  // The edge face is fitted to the points between the plates that lie on
+  // neither line, short of the points next to the upper plate that it
+  // reaches over (on its line, as a butt plate reaches): noise cuts the upper
+  // plate near its edge into short pieces, and their points off its line
+  // were fitted into the face (angle 117 instead of 90 degrees).
+  bool upper_reaches = true;
 };
 
 struct ButtParams {
@@ -144,6 +159,12 @@ struct VGrooveParams {
   // outer side is a bevel if it has this many points, counting the points
   // removed as outliers between it and the top that lie on its line.
   int min_short_bevel_points = 3;
+  // Such a short bevel's plate top may also lie beyond at most two short
+  // pieces whose points all lie on the bevel's line or on the top's line
+  // (within surface_tol_mm): noise at the top edge of a bevel seen edge-on
+  // cuts a short piece off the top, or leaves one across the edge. The
+  // pieces' points on the bevel's line and off the top's count for the bevel.
+  bool short_bevel_across_pieces = true;
 };
 
 struct TrackerParams {
@@ -171,6 +192,32 @@ struct TrackerParams {
   // two points on its line in the neighbouring columns (one noisy point; a
   // ray into a gap goes deeper).
   bool reach_over_single_points = true;
+  // A butt plate's edge, and the lap's upper plate edge when its edge face is
+  // hidden, are placed from the last of the points removed as outliers right
+  // after the plate's end (no column missing or kept between) that lie on its
+  // line (and off the lower plate's, for the lap), also past removed points
+  // in front of it: a reflection cluster displaced towards the sensor next to
+  // an edge is removed, and the few plate points between it and the edge are
+  // then removed as an island; the plate's segment alone ended before them.
+  bool reach_removed_points = true;
+  // Step 4 detaches a segment's end points off its line only when they lie
+  // farther than surface_tol_mm from it too (not only fit_tol_mm or 4 rms of
+  // the fit): a surface seen nearly along the rays has its range noise along
+  // its line, so its rms is far below the noise, and one point at a v-groove
+  // bevel's root end 0.03 mm off (noise) detached the bevel's last points
+  // there, moving its root edge millimetres.
+  bool noise_aware_detach = true;
+  // Step 2 also splits a region of at least min_segment_points whose line fit
+  // has an rms above surface_tol_mm (no line with noise alone) at its
+  // farthest point from the chord, when that lies more than surface_tol_mm
+  // off and has at least 3 points on either side, each side fitting a line
+  // with at most half the whole's rms (a corner, not a displaced cluster on
+  // one line): a dropout next to a corner
+  // leaves a short run in which the corner lies within split_threshold_mm of
+  // the chord (a v-groove's bevel and root face at 50 mm, or its plate top
+  // and bevel), and one segment across it moved the root edge or the top
+  // line.
+  bool split_rough_segments = true;
 };
 
 }  // namespace vts::tracker

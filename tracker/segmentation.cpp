@@ -320,7 +320,8 @@ void refit(const Segmentation& s, Segment& seg) {
 
 }  // namespace
 
-void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& s) {
+void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& s,
+                     double detach_tol_mm, double rough_tol_mm) {
   s.clear();
   const int n = static_cast<int>(profile.y_mm.size());
   if (profile.z_mm.size() != profile.y_mm.size() ||
@@ -473,7 +474,35 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
             }
           }
         }
-        if (!(worst > sp.split_threshold_mm)) split_at = -1;
+        if (!(worst > sp.split_threshold_mm)) {
+          // A corner shallower than t_split in a short run (a dropout cut the
+          // profile next to it) is split too when the region is no line: its
+          // fit's rms exceeds what noise gives (rough_tol_mm, see
+          // segment_profile). At its farthest point from the chord over every
+          // point, with at least 3 points on either side (a corner between
+          // two lines; one or two deep points, as rays into a narrow gap, are
+          // left to the later steps), when each side fits a line at least
+          // twice as well as the whole.
+          int rough_at = -1;
+          if (rough_tol_mm > 0.0 && len > 1e-12 && worst > rough_tol_mm) {
+            const auto f = s.fit(a, b);
+            if (f && f->rms_mm > rough_tol_mm) {
+              double far = 0.0;
+              for (int k = a + 1; k < b; ++k) {
+                const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
+                if (dist > far) far = dist, rough_at = k;
+              }
+              if (rough_at - a < 3 || b - rough_at < 3 || !(far / len > rough_tol_mm)) rough_at = -1;
+              // Two lines meet there: each side alone fits a line at least
+              // twice as well (a displaced cluster on one line does not).
+              if (rough_at >= 0) {
+                const auto l = s.fit(a, rough_at), r = s.fit(rough_at, b);
+                if (!l || !r || l->rms_mm > 0.5 * f->rms_mm || r->rms_mm > 0.5 * f->rms_mm) rough_at = -1;
+              }
+            }
+          }
+          split_at = rough_at;
+        }
       }
       if (split_at < 0) {
         s.leaves_.push_back(a);
@@ -597,8 +626,11 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   // End points that sit off their segment's line (a corner sample, a few
   // points of a short face) are detached as single points: the segment is
   // fitted without its last three points on that end, and from the inside out
-  // the first of them farther than max(fit_tol_mm, 4 rms) from that line is
-  // detached with everything beyond it.
+  // the first of them farther than max(fit_tol_mm, 4 rms, detach_tol_mm)
+  // from that line is detached with everything beyond it. (A bevel seen
+  // nearly along the rays has range noise along its line: its rms is far
+  // below the noise, and fit_tol_mm or 4 rms alone detached its last points
+  // at the root; detach_tol_mm is the noise a point may show off its line.)
   for (std::size_t i = 0; i < s.segments.size(); ++i) {
     for (int end = 0; end < 2; ++end) {
       Segment& sg = s.segments[i];
@@ -608,7 +640,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
       for (int k = 0; k < m; ++k) core_sums.add(s.points[end == 0 ? sg.first + k : sg.last - k] - s.ref_, -1.0);
       const auto core = s.fit(core_sums);
       if (!core) continue;
-      const double tol = std::max(sp.fit_tol_mm, 4.0 * core->rms_mm);
+      const double tol = std::max({sp.fit_tol_mm, 4.0 * core->rms_mm, detach_tol_mm});
       int detach = 0;
       for (int k = m; k >= 1; --k) {
         const int p = end == 0 ? sg.first + k - 1 : sg.last - k + 1;

@@ -123,7 +123,17 @@ struct Segmentation {
 
 // Runs steps 1 to 4 on one profile. `out` is overwritten; its buffers are
 // reused. Malformed input (spans of different lengths) sets out.error and
-// leaves no points.
-void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& out);
+// leaves no points. The tracker passes its TrackerParams::surface_tol_mm as
+// - detach_tol_mm (with TrackerParams::noise_aware_detach, else 0): step 4
+//   detaches no end point that lies within it of its segment's line (noise
+//   alone moves a point that far; see SegmentParams::fit_tol_mm);
+// - rough_tol_mm (with TrackerParams::split_rough_segments, else 0): step 2
+//   also splits a region of at least s_min points whose line fit has an rms
+//   above it (no line with noise alone) at its farthest point from the chord,
+//   if that lies more than rough_tol_mm off and has at least 3 points on
+//   either side, each fitting a line with at most half the whole's rms (a
+//   corner shallower than t_split).
+void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& out,
+                     double detach_tol_mm = 0.0, double rough_tol_mm = 0.0);
 
 }  // namespace vts::tracker

@@ -348,6 +348,20 @@ class Matcher {
             b_end_col = col, b_end_pt = o;  // the first one
           }
         }
+        // So do the points kept between the plates (a short piece of the
+        // flange seen through the gap, cut off by a dropout or a noisy point).
+        for (int k = a.last + 1; fp.flange_pieces && k < b.first; ++k) {
+          const Vec2& o = pt(k);
+          const int col = s_.cols[k];
+          if (col > a_end_col && a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
+            a_past = true;
+            a_end_col = col, a_end_pt = o;
+          }
+          if (col < b_end_col && b.line.distance(o) <= tol_ && beyond_line(b.centroid, o, a.line)) {
+            b_past = true;
+            b_end_col = col, b_end_pt = o;
+          }
+        }
       }
       bool web_is_b = true;
       if (fp.web == WebSide::First) web_is_b = false;
@@ -494,9 +508,18 @@ class Matcher {
         const int u_end = upper_is_b ? b.first : a.last, u_out = upper_is_b ? b.last : a.first;
         const int from = a.last + 1, to = b.first - 1;
 
-        // Points on the edge face: between the plates and on neither.
+        // Points on the edge face: between the plates and on neither. With
+        // LapParams::upper_reaches, only those between the lower plate and
+        // the points the upper plate reaches over (on its line, as a butt
+        // plate reaches): noise cuts the upper plate near its edge into
+        // short pieces, and their points off its line were read as face points.
+        int f_from = from, f_to = to;
+        if (lp.upper_reaches) {
+          if (upper_is_b) f_to = reach(upper.line, b.first, -1, a.last) - 1;
+          else f_from = reach(upper.line, a.last, +1, b.first) + 1;
+        }
         scratch_.clear();
-        for (int i = from; i <= to; ++i)
+        for (int i = f_from; i <= f_to; ++i)
           if (lower.line.distance(pt(i)) > tol_ && upper.line.distance(pt(i)) > tol_) scratch_.push_back(pt(i));
 
         Candidate c;
@@ -544,8 +567,13 @@ class Matcher {
             while (u_edge - 1 >= from && on_upper(u_edge - 1)) --u_edge;
           else
             while (u_edge + 1 <= to && on_upper(u_edge + 1)) ++u_edge;
-          const int beyond_col = upper_is_b ? s_.cols[u_edge] - 1 : s_.cols[u_edge] + 1;
-          const Edge e = edge(upper, u_edge, beyond_col, &upper.line.n, span_of(from, to));
+          // So do the points removed as outliers there (a few upper plate
+          // points cut off by a noisy point and the step: an island).
+          Vec2 u_pt = pt(u_edge);
+          int u_col = s_.cols[u_edge];
+          reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col);
+          const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
+          const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to));
           top = e.point;
           c.edge_unc = e.half_width_mm;
           foot = lower.line.project(top);
@@ -607,8 +635,14 @@ class Matcher {
       }
     }
     const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
-    const Edge el = edge(a, a.last, s_.cols[a.last] + 1, &a.line.n, span_of(from, to), removed);
-    const Edge er = edge(b, b.first, s_.cols[b.first] - 1, &b.line.n, span_of(from, to), removed);
+    // Each plate reaches over the points removed as outliers right after its
+    // end that lie on its line (TrackerParams::reach_removed_points).
+    Vec2 a_end = pt(a.last), b_end = pt(b.first);
+    int a_col = s_.cols[a.last], b_col = s_.cols[b.first];
+    reach_removed(a.line, nullptr, +1, s_.cols[b.first], a_end, a_col);
+    reach_removed(b.line, nullptr, -1, a_col, b_end, b_col);
+    const Edge el = edge_at(a, a_end, a_col + 1, &a.line.n, span_of(from, to), removed);
+    const Edge er = edge_at(b, b_end, b_col - 1, &b.line.n, span_of(from, to), removed);
     const bool b_higher = a.line.signed_distance(er.point) > 0.0;
     const Plate& lower = b_higher ? a : b;
     const Vec2& high_edge = b_higher ? er.point : el.point;
@@ -626,6 +660,30 @@ class Matcher {
     c.score = 1e6 * evidence + c.gap + c.mismatch;
     c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
     offer(c);
+  }
+
+  // With TrackerParams::reach_removed_points: moves a plate's end (end_pt, in
+  // column end_col) over the points removed as outliers in the columns right
+  // after it (dir +1: towards higher columns; no column missing or kept
+  // between, short of column `stop`) that lie on its line `l` (and off
+  // `other`, if given), also past removed points in front of the line (a
+  // reflection cluster displaced towards the sensor), not past one behind it
+  // (a ray into a gap).
+  void reach_removed(const Line& l, const Line* other, int dir, int stop, Vec2& end_pt, int& end_col) const {
+    if (!p_.reach_removed_points) return;
+    const int lo = dir > 0 ? end_col : stop, hi = dir > 0 ? stop : end_col;
+    const auto removed = outliers_between(lo, hi);
+    if (removed.empty()) return;
+    const std::size_t off = static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
+    const int n = static_cast<int>(removed.size());
+    for (int k = dir > 0 ? 0 : n - 1, col = end_col; k >= 0 && k < n; k += dir) {
+      if (s_.outlier_cols[off + k] != col + dir) break;
+      col += dir;
+      const Vec2& o = removed[k];
+      const double d = l.signed_distance(o);
+      if (std::abs(d) <= tol_ && (!other || other->distance(o) > tol_)) end_pt = o, end_col = col;
+      else if (d < 0.0) break;
+    }
   }
 
   // The last of the consecutive points from `end` on, stepping by `step` (not
@@ -766,18 +824,16 @@ class Matcher {
     // bevel pair may have one segment between them.
     // A bevel seen edge-on can keep even fewer points after dropouts: a
     // shorter segment is a bevel candidate when a plate top (a long segment)
-    // follows or precedes it directly; vgroove_pair then requires that top.
+    // follows or precedes it directly, or across short pieces (top_of);
+    // vgroove_pair then requires that top.
     const int min_bevel = std::max(2, vp.min_bevel_points);
     const int n_seg = static_cast<int>(s_.segments.size());
-    const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
-    auto is_long = [&](int k) {
-      return k >= 0 && k < n_seg && s_.segments[k].fitted && s_.segments[k].count() >= s_min;
-    };
     bevels_.clear();
     for (int j = 0; j < n_seg; ++j) {
       const Segment& sg = s_.segments[j];
       if (!sg.fitted) continue;
-      if (sg.count() >= min_bevel || (sg.count() >= 2 && (is_long(j - 1) || is_long(j + 1)))) bevels_.push_back(j);
+      if (sg.count() >= min_bevel || (sg.count() >= 2 && (top_of(j, -1) >= 0 || top_of(j, +1) >= 0)))
+        bevels_.push_back(j);
     }
     for (std::size_t qi = 0; qi + 1 < bevels_.size(); ++qi) {
       for (std::size_t qj = qi + 1; qj <= std::min(qi + 2, bevels_.size() - 1); ++qj) {
@@ -808,10 +864,38 @@ class Matcher {
     return out;
   }
 
+  // The plate top of a short bevel candidate, segment k, on its outer side
+  // (dir -1: before it in scan order, +1: after it): the long segment
+  // directly beside it, or (VGrooveParams::short_bevel_across_pieces) the
+  // first long segment beyond at most two short pieces whose points all lie
+  // on the bevel's line or on that top's line (within the surface tolerance):
+  // noise at the top edge of a bevel seen edge-on cuts a short piece off the
+  // top there, or leaves a piece across the edge. -1 if none.
+  int top_of(int k, int dir) const {
+    const int n_seg = static_cast<int>(s_.segments.size());
+    const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
+    auto is_long = [&](int m) {
+      return m >= 0 && m < n_seg && s_.segments[m].fitted && s_.segments[m].count() >= s_min;
+    };
+    if (is_long(k + dir)) return k + dir;
+    const Segment& sb = s_.segments[k];
+    if (!p_.vgroove.short_bevel_across_pieces || !sb.fitted) return -1;
+    int m = k + dir, pieces = 0;
+    for (; m >= 0 && m < n_seg && !is_long(m); m += dir)
+      if (++pieces > 2) return -1;
+    if (!is_long(m)) return -1;
+    const Segment& st = s_.segments[m];
+    const int lo = dir > 0 ? sb.last + 1 : st.last + 1, hi = dir > 0 ? st.first - 1 : sb.first - 1;
+    for (int i = lo; i <= hi; ++i)
+      if (sb.line.distance(pt(i)) > tol_ && st.line.distance(pt(i)) > tol_) return -1;
+    return m;
+  }
+
   // A bevel segment shorter than min_bevel_points (seen edge-on, thinned by
-  // dropouts) next to its plate top (long segment `top`): refitted through its
-  // points and the points removed as outliers between it and the top that lie
-  // on its line (the island filter removes single bevel points cut off by
+  // dropouts) next to its plate top (long segment `top`, see top_of):
+  // refitted through its points and the points removed as outliers, or kept
+  // in short pieces, between it and the top that lie on its line and off the
+  // top's (the island filter removes single bevel points cut off by
   // dropouts). Empty if fewer than min_short_bevel_points in all.
   std::optional<Plate> short_bevel(int b, int top) const {
     const Segment& sb = s_.segments[b];
@@ -821,6 +905,9 @@ class Matcher {
     PointSums sums = sb.sums;
     for (const Vec2& o : removed)
       if (sb.line.distance(o) <= tol_ && st.line.distance(o) > tol_) sums.add(o - s_.ref_);
+    const int lo = b < top ? sb.last + 1 : st.last + 1, hi = b < top ? st.first - 1 : sb.first - 1;
+    for (int i = lo; i <= hi; ++i)
+      if (sb.line.distance(pt(i)) <= tol_ && st.line.distance(pt(i)) > tol_) sums.add(pt(i) - s_.ref_);
     if (sums.n < std::max(2, p_.vgroove.min_short_bevel_points)) return std::nullopt;
     if (sums.n == sb.count()) return plate_of(sb);
     const auto f = s_.fit(sums);
@@ -835,13 +922,16 @@ class Matcher {
       const int min_bevel = std::max(2, vp.min_bevel_points);
       const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
       const int n_seg = static_cast<int>(s_.segments.size());
-      auto top_at = [&](int k) {
-        return k >= 0 && k < n_seg && s_.segments[k].fitted && s_.segments[k].count() >= s_min ? k : -1;
-      };
       const bool i_short = s_.segments[i].count() < min_bevel, j_short = s_.segments[j].count() < min_bevel;
       std::optional<Plate> pi = plate_of(s_.segments[i]), pj = plate_of(s_.segments[j]);
-      if (i_short) pi = top_at(i - 1) >= 0 ? short_bevel(i, i - 1) : std::nullopt;
-      if (j_short) pj = top_at(j + 1) >= 0 ? short_bevel(j, j + 1) : std::nullopt;
+      if (i_short) {
+        const int t = top_of(i, -1);
+        pi = t >= 0 ? short_bevel(i, t) : std::nullopt;
+      }
+      if (j_short) {
+        const int t = top_of(j, +1);
+        pj = t >= 0 ? short_bevel(j, t) : std::nullopt;
+      }
       if (!pi || !pj) return;
       // Noise can cut a bevel in pieces: a long piece between the bevels on
       // either one's line is not a root face (the reading that skips it is
@@ -1034,7 +1124,8 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
   out.edge_uncertainty_mm = 0.0;
   out.segments.clear();
 
-  segment_profile(profile, params_.segmentation, seg_);
+  segment_profile(profile, params_.segmentation, seg_, params_.noise_aware_detach ? params_.surface_tol_mm : 0.0,
+                  params_.split_rough_segments ? params_.surface_tol_mm : 0.0);
   out.valid_points = seg_.valid_points;
   out.outliers = seg_.outliers;
   if (!seg_.error.empty()) {

@@ -393,6 +393,31 @@ TEST_CASE("butt noisy: a plate reaches over a single noisy point to the points o
   CHECK(std::abs(r2.track_point->x() - 21.5) < 3.0);
 }
 
+TEST_CASE("butt noisy: a plate reaches over removed points on its line past a reflection", "[tracker][butt]") {
+  // Plates at 50 mm, the left one 1 mm nearer, a 1.5 mm gap (rays through it
+  // find nothing). A reflection cluster displaces 4 of the left plate's
+  // points 2.2 mm towards the sensor, 4 columns before its edge: the cluster
+  // is removed, and the 4 plate points after it, cut off by it and by the
+  // gap, are removed as an island. The plate still reaches to its edge;
+  // without the rule it ends before the cluster and the gap reads 0.5 mm wide.
+  auto p = synth::sample({{Vec2(-40, 49), Vec2(-0.75, 49)}, {Vec2(0.75, 50), Vec2(40, 50)}});
+  int e = column_at(p, -0.75) - 1;  // the left plate's last column
+  while (!p.valid[e]) --e;
+  for (int k = e - 7; k <= e - 4; ++k) along_ray(p, k, -2.2);
+  const auto r = track(p, tk::JointType::Butt);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  REQUIRE(r.outliers == 8);
+  const double sp = spacing_at(50.0);
+  CHECK(r.gap_mm == Approx(1.5).margin(2 * sp));
+  CHECK(std::abs(r.track_point->x()) < sp);
+  CHECK(r.mismatch_mm == Approx(1.0).margin(1e-3));
+  tk::TrackerParams off;
+  off.reach_removed_points = false;
+  const auto r2 = track(p, tk::JointType::Butt, off);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.gap_mm - 1.5) <= 2 * sp));
+}
+
 TEST_CASE("fillet noisy: each plate extends over the pieces of its line beyond it", "[tracker][fillet]") {
   // A 90-degree fillet at 250 mm (sigma 0.15 mm). The web's first 9 points
   // at the root are tilted by a ramp of +-0.5 mm along their rays (noise that
@@ -453,6 +478,43 @@ TEST_CASE("fillet noisy: the web's edge is read from its last points on its line
     const auto r2 = track(p, tk::JointType::Fillet, params);
     CHECK(!(std::abs(r2.gap_mm - gap) <= tol));
   }
+}
+
+TEST_CASE("fillet noisy: a short piece of the flange seen through the gap shows the gap", "[tracker][fillet]") {
+  // The fillet with a 2 mm gap at 250 mm of the test above, ideal points,
+  // surface_tol_mm 0.45 (sigma 0.15). A dropout 3 columns before the first
+  // flange point seen more than that beyond the web's line cuts the flange
+  // points seen through the gap off as a short piece, 0.4 mm behind along
+  // the rays (noise; more than the merge offset): the flange's long segment
+  // ends on the web's line. The piece still shows the gap; without the rule
+  // it reads 0.
+  const double gap = 2.0;
+  const Vec2 root(0.0, 250.0);
+  const Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
+  const Vec2 flange_n(-left.y(), left.x());
+  const Vec2 toe = root + gap / std::abs(right.dot(flange_n)) * right;
+  auto p = synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}});
+  auto params = noisy_params(0.15);
+  const Vec2 web_n(-right.y(), right.x());
+  int c = 0;  // the first flange column beyond the web's line by more than the tolerance
+  while (!(p.valid[c] && std::abs(flange_n.dot(Vec2(p.y[c], p.z[c]) - root)) < 1e-3 &&
+           (Vec2(p.y[c], p.z[c]) - root).dot(left) < 0.0 &&
+           std::abs(web_n.dot(Vec2(p.y[c], p.z[c]) - toe)) > params.surface_tol_mm))
+    ++c;
+  int e = c;  // the web's first point
+  while (std::abs(flange_n.dot(Vec2(p.y[e], p.z[e]) - root)) < 1e-3) ++e;
+  const int cut = c - 3;
+  REQUIRE(e - cut - 1 >= 5);  // more points than an outlier island
+  p.invalidate(cut, cut);
+  for (int k = cut + 1; k < e; ++k) along_ray(p, k, 0.4);
+  const auto r = track(p, tk::JointType::Fillet, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double tol = spacing_at(250.0) / std::abs(right.x());  // a point spacing along the web
+  CHECK(r.gap_mm == Approx(gap).margin(tol));
+  params.fillet.flange_pieces = false;
+  const auto r2 = track(p, tk::JointType::Fillet, params);
+  CHECK(!(std::abs(r2.gap_mm - gap) <= tol));
 }
 
 TEST_CASE("lap noisy: each plate extends over the pieces of its line beyond it", "[tracker][lap]") {
@@ -579,6 +641,112 @@ TEST_CASE("v-groove: a bevel seen edge-on with three points left after dropouts"
   CHECK(track(p, tk::JointType::VGroove, strict).status == tk::TrackStatus::Rejected);
 }
 
+TEST_CASE("v-groove noisy: a short bevel's top beyond a short piece of it", "[tracker][vgroove]") {
+  // As above (three bevel points and one removed as an island; no root
+  // faces seen: with this tolerance a face point 0.5 mm below the root lies
+  // on the steep bevel's line), and a
+  // dropout 5 columns into the plate top cuts its first 4 points off, 0.25
+  // mm behind it (noise; surface_tol_mm 0.3, more than the merge offset): a
+  // short piece between the bevel and its top. The bevel is still read with
+  // its top beyond the piece; without the rule it has no top beside it.
+  const double depth = 8.0;
+  const Vec2 lr(-0.5, 100), rr(0.5, 100);
+  const Vec2 lt = lr + Vec2(-depth * std::tan(std::numbers::pi / 6), -depth);
+  const Vec2 rt = rr + Vec2(depth * std::tan(7.0 * std::numbers::pi / 180), -depth);
+  auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {rr, rt}, {rt, Vec2(80, 92)}});
+  std::vector<int> bevel;
+  const tk::Line bl{Vec2(rt.y() - rr.y(), rr.x() - rt.x()).normalized(), 0.0};
+  for (int i = 0; i < p.size(); ++i) {
+    const Vec2 q(p.y[i], p.z[i]);
+    if (p.valid[i] && std::abs(bl.n.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 92 + 1e-3)
+      bevel.push_back(i);
+  }
+  REQUIRE(bevel.size() >= 6);
+  const int n = static_cast<int>(bevel.size());
+  for (int k = 0; k < n - 5; ++k) p.invalidate(bevel[k], bevel[k]);
+  p.invalidate(bevel[n - 2], bevel[n - 2]);
+  const int top = bevel[n - 1] + 1;  // the plate top's first column
+  REQUIRE(std::abs(p.z[top] - 92.0f) < 1e-3f);
+  for (int k = 0; k < 4; ++k) along_ray(p, top + k, 0.25);
+  p.invalidate(top + 4, top + 4);
+  auto params = noisy_params(0.1);
+  const auto r = track(p, tk::JointType::VGroove, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double a = (lt - lr).normalized().dot((rt - rr).normalized());
+  CHECK(r.angle_deg == Approx(std::acos(a) * 180.0 / std::numbers::pi).margin(1e-3));
+  CHECK(std::abs(bl.n.dot(*r.break_points[4] - rr)) < 1e-3);  // the root edge on the bevel
+  CHECK((*r.break_points[5] - rt).norm() < 1e-3);  // the top edge: the lines meet
+  params.vgroove.short_bevel_across_pieces = false;
+  const auto r2 = track(p, tk::JointType::VGroove, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - std::acos(a) * 180.0 / std::numbers::pi) < 1.0));
+}
+
+TEST_CASE("v-groove noisy: a bevel along the rays keeps its root end", "[tracker][vgroove]") {
+  // A 16 mm deep groove with a 1 mm root opening at 100 mm; the second bevel
+  // 7 degrees off the rays, so its points lie about 1.2 mm apart along it and
+  // range noise moves them along its line. Its third point from the root lies
+  // 0.05 mm off its line (noise; surface_tol_mm 0.15): the bevel's fit through
+  // the rest has rms 0, and without the rule the end-detach step cuts its
+  // three root points off and the root edge moves 3 mm up the bevel.
+  const double depth = 16.0;
+  const Vec2 lr(-0.5, 100), rr(0.5, 100);
+  const Vec2 lt = lr + Vec2(-depth * std::tan(std::numbers::pi / 6), -depth);
+  const Vec2 rt = rr + Vec2(depth * std::tan(7.0 * std::numbers::pi / 180), -depth);
+  auto p = synth::sample({{Vec2(-80, 100 - depth), lt}, {lt, lr}, {rr, rt}, {rt, Vec2(80, 100 - depth)}});
+  const Vec2 ub = (rt - rr).normalized();
+  const Vec2 nb(-ub.y(), ub.x());
+  std::vector<int> bevel;  // the columns that see the second bevel, root first
+  for (int i = 0; i < p.size(); ++i) {
+    const Vec2 q(p.y[i], p.z[i]);
+    if (p.valid[i] && std::abs(nb.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 100 - depth + 1e-3)
+      bevel.push_back(i);
+  }
+  REQUIRE(bevel.size() >= 10);
+  const int k = bevel[2];
+  p.y[k] += static_cast<float>(0.05 * nb.x());
+  p.z[k] += static_cast<float>(0.05 * nb.y());
+  auto params = noisy_params(0.05);
+  const auto r = track(p, tk::JointType::VGroove, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double along = spacing_at(100.0) / std::sin(7.0 * std::numbers::pi / 180);  // points apart on the bevel
+  CHECK((*r.break_points[4] - rr).norm() < along);
+  CHECK(r.gap_mm == Approx(1.0).margin(along));
+  params.noise_aware_detach = false;
+  const auto r2 = track(p, tk::JointType::VGroove, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.break_points[4] - rr).norm() < along));
+}
+
+TEST_CASE("v-groove: a dropout on each side of a top edge does not hide the corner", "[tracker][vgroove]") {
+  // The groove of "root, angle, depth and area"; dropouts 6 columns before
+  // the first top edge and 3 after it leave a run of 5 top and 3 bevel
+  // points whose corner lies within t_split (0.4 mm) of their chord: split
+  // only because the run is no line (rms above surface_tol_mm). Without the
+  // rule it stays one segment across the edge, which cannot be read as
+  // either plate top or bevel.
+  const double half = 30.0, depth = 8.0, gap = 1.2;
+  const double run = depth * std::tan(half * std::numbers::pi / 180.0);
+  const Vec2 lr(-0.5 * gap, 100), rr(0.5 * gap, 100);
+  const Vec2 lt = lr + Vec2(-run, -depth), rt = rr + Vec2(run, -depth);
+  auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
+                          {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}});
+  const int c0 = column_at(p, lt.x());  // the first bevel point
+  p.invalidate(c0 - 6, c0 - 6);
+  p.invalidate(c0 + 3, c0 + 3);
+  tk::TrackerParams params;
+  const auto r = track(p, tk::JointType::VGroove, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.break_points[1] - lt).norm() < 1e-3);  // the top edge: the lines meet
+  CHECK(r.angle_deg == Approx(60.0).margin(1e-3));
+  CHECK(r.depth_mm == Approx(depth).margin(spacing_at(100.0) / std::sin(half * std::numbers::pi / 180.0) + 1e-3));
+  params.split_rough_segments = false;
+  const auto r2 = track(p, tk::JointType::VGroove, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.break_points[1] - lt).norm() < 1e-3 &&
+          std::abs(r2.angle_deg - 60.0) < 1e-3));
+}
+
 TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap]") {
   // Lower plate at z = 100, upper plate's top at z = 96 (4 mm step) on the
   // right; its edge face at y = 20 faces the sensor (seen obliquely).
@@ -607,6 +775,58 @@ TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   CHECK(r.step_mm == Approx(4.0).margin(1e-3));
   CHECK(r.gap_mm == Approx(1.0).margin(1e-3));  // step 4 - thickness 3
   CHECK(std::isnan(r.angle_deg));
+}
+
+TEST_CASE("lap noisy: the upper plate reaches over removed points on its line", "[tracker][lap]") {
+  // As above (edge face hidden); a reflection cluster displaces 4 of the
+  // upper plate's points 1.2 mm towards the sensor, 4 columns before its
+  // edge: the cluster is removed, and the 4 plate points after it, cut off by
+  // it and by the step, are removed as an island. The top edge is still read
+  // at the edge; without the rule 4 columns short.
+  tk::TrackerParams params;
+  params.lap.upper_thickness_mm = 3.0;
+  auto p = synth::sample({{Vec2(-80, 96), Vec2(20, 96)}, {Vec2(20, 96), Vec2(20, 100)},
+                          {Vec2(20, 100), Vec2(80, 100)}});
+  int e = column_at(p, 20.0) - 1;  // the upper plate's last column
+  while (!(p.valid[e] && std::abs(p.z[e] - 96.0f) < 1e-3f)) --e;
+  for (int k = e - 7; k <= e - 4; ++k) along_ray(p, k, -1.2);
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  REQUIRE(r.outliers == 8);
+  const double tol = spacing_at(96.0) + 1e-3;
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < tol);
+  CHECK(r.step_mm == Approx(4.0).margin(1e-3));
+  params.reach_removed_points = false;
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.track_point - Vec2(20, 100)).norm() < tol));
+}
+
+TEST_CASE("lap noisy: points the upper plate reaches over are no edge face", "[tracker][lap]") {
+  // Lower plate at z = 100; the upper plate's top at z = 96 from y = 22 on,
+  // its edge face from (20, 100) up to (22, 96), in view; surface_tol_mm
+  // 0.15. Ten columns missing 6 points past the top edge cut those points
+  // off the upper plate as a short piece (too far to merge), and the third
+  // of them lies 0.29 mm in front of the plate (noise). The plate reaches
+  // over the piece, past that point, so the face is fitted without it;
+  // without the rule that point is fitted into the face.
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20, 100), Vec2(22, 96)},
+                          {Vec2(22, 96), Vec2(80, 96)}});
+  int u = column_at(p, 22.0);  // the upper plate's first column
+  REQUIRE(std::abs(p.z[u] - 96.0f) < 1e-3f);
+  along_ray(p, u + 2, -0.29);
+  p.invalidate(u + 6, u + 15);
+  auto params = noisy_params(0.05);
+  const double angle = std::acos(Vec2(-1, 0).dot(Vec2(2, -4).normalized())) * 180.0 / std::numbers::pi;
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.angle_deg == Approx(angle).margin(0.05));
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < 0.02);
+  params.lap.upper_reaches = false;
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  INFO("without the rule: angle " << r2.angle_deg);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - angle) <= 0.05));
 }
 
 TEST_CASE("tracker: no allocation after warm-up", "[tracker]") {
