@@ -799,26 +799,43 @@ class Worker {
     segments_.swap(joined_);
   }
 
-  // Appends segment g to the stream as a quad covering exactly row `row` of
-  // `rows`, cut at the near plane.
+  // Appends segment g to the stream, cut at the near plane, as one triangle
+  // in row `row` of `rows`: p0 as an edge across the row, p1 as the apex on
+  // the row's centre line, where the pixel centres lie, so that along them it
+  // covers exactly the columns between p0 and p1 with depth interpolated
+  // between theirs (half the triangles of a quad, the same pixels: llvmpipe's
+  // cost is per triangle here).
   void emit(const Segment& g, std::uint32_t row, int rows) {
     Eigen::Vector2d p0 = g.p0, p1 = g.p1;
     if (p0.y() < kNearClipMm && p1.y() < kNearClipMm) return;
     if (p0.y() < kNearClipMm) p0 = p0 + (kNearClipMm - p0.y()) / (p1.y() - p0.y()) * (p1 - p0);
     if (p1.y() < kNearClipMm) p1 = p1 + (kNearClipMm - p1.y()) / (p0.y() - p1.y()) * (p0 - p1);
-    const float x0 = static_cast<float>(p0.x() / p0.y() / s_.tan_half_fan);
-    const float x1 = static_cast<float>(p1.x() / p1.y() / s_.tan_half_fan);
-    const float d0 = static_cast<float>(kNearClipMm / p0.y());
-    const float d1 = static_cast<float>(kNearClipMm / p1.y());
+    // NDC x and reversed depth of the ends, cut to the target's columns and
+    // a pixel either side (depth is affine in x along the segment): a
+    // triangle reaching far beyond them is clipped by llvmpipe, which lost
+    // coverage of this thin one.
+    double x0 = p0.x() / p0.y() / s_.tan_half_fan, x1 = p1.x() / p1.y() / s_.tan_half_fan;
+    double d0 = kNearClipMm / p0.y(), d1 = kNearClipMm / p1.y();
+    const double lim = 1.0 + 2.0 / s_.desc.points;
+    if ((x0 < -lim && x1 < -lim) || (x0 > lim && x1 > lim)) return;
+    auto cut = [lim](double& xa, double& da, double xb, double db) {
+      const double x = std::clamp(xa, -lim, lim);
+      if (x == xa) return;
+      da += (x - xa) / (xb - xa) * (db - da);
+      xa = x;
+    };
+    const double x0_uncut = x0, d0_uncut = d0;
+    cut(x0, d0, x1, d1);
+    cut(x1, d1, x0_uncut, d0_uncut);
     const float y_lo = static_cast<float>(2.0 * row / rows - 1.0);
     const float y_hi = static_cast<float>(2.0 * (row + 1) / rows - 1.0);
+    const float y_mid = static_cast<float>(2.0 * (row + 0.5) / rows - 1.0);
     const std::uint32_t t = g.entry;
-    stream_.push_back({x0, y_lo, d0, row, t});
-    stream_.push_back({x1, y_lo, d1, row, t});
-    stream_.push_back({x1, y_hi, d1, row, t});
-    stream_.push_back({x0, y_lo, d0, row, t});
-    stream_.push_back({x1, y_hi, d1, row, t});
-    stream_.push_back({x0, y_hi, d0, row, t});
+    const float fx0 = static_cast<float>(x0), fx1 = static_cast<float>(x1);
+    const float fd0 = static_cast<float>(d0), fd1 = static_cast<float>(d1);
+    stream_.push_back({fx0, y_lo, fd0, row, t});
+    stream_.push_back({fx0, y_hi, fd0, row, t});
+    stream_.push_back({fx1, y_mid, fd1, row, t});
   }
 
   void pass(std::span<const Pose> poses, std::span<Profile> out) {

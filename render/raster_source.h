@@ -3,8 +3,9 @@
 // plane's slice of the mesh into a one-row depth buffer per profile (OSMesa,
 // llvmpipe, headless). For each profile, a bounding-volume hierarchy over the
 // mesh (sensor/mesh_bvh.h) finds the triangles its laser plane cuts; each cut
-// is a segment in the plane, sent as a quad one row tall, already projected
-// (column coordinate y/z, reversed depth near/z). One draw covers up to 256
+// is a segment in the plane (collinear runs joined), sent as one triangle in
+// its profile's row, already projected (column coordinate y/z, reversed depth
+// near/z) and cut to the row's columns. One draw covers up to 256
 // profiles, one row each; the depth test keeps the nearest segment per column
 // and the target holds its triangle's number. The range along the column's
 // ray is then the exact ray/plane intersection with that triangle, in double,
