@@ -467,21 +467,19 @@ class ShadowTester {
                                         sheet.dot(camera_w_) + dev + kCullMarginMm);
     }
     candidates_.clear();
-    // On a closed mesh, faces turned away from the camera need no test (see
-    // below); the hierarchy leaves out those clearly turned away.
+    // A sight line from outside into a closed solid crosses a face turned
+    // towards the camera before any turned away: on a closed mesh the
+    // hierarchy leaves out the faces turned away from the camera (all but
+    // those within its rounding margin of facing it, which are tested like
+    // the rest: a redundant test, never a wrong one).
     const MeshBvh::Box3 camera{camera_w_, camera_w_};
     s_.mesh.bvh.inside_planes(std::span(planes_w_.data(), static_cast<std::size_t>(np)), candidates_,
                               s_.mesh.closed ? &camera : nullptr);
-    if (s_.mesh.closed)
-      for (std::uint32_t e : candidates_) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
 
     // Moeller-Trumbore with the common origin C: per triangle the vectors
     // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
     // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
     for (std::uint32_t e : candidates_) {
-      // A sight line into a closed solid enters it through a face turned
-      // towards the camera; the others need no test.
-      if (s_.mesh.closed && !s_.mesh.faces(e, camera_w_)) continue;
       const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
       const Eigen::Vector3d pa(k[0], k[1], k[2]), pb(k[3], k[4], k[5]), pc(k[6], k[7], k[8]);
       // The sight lines that can cross the triangle: a crossing point lies
