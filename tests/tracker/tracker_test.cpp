@@ -65,6 +65,31 @@ tk::TrackerParams noisy_params(double sigma) {
   return params;
 }
 
+// A fillet at 250 mm whose web stands `gap` mm off the flange: flange along
+// -135 degrees through the root, web along -45 degrees from its toe; the
+// ideal 512-column profile of 80 mm of each.
+struct GappedFillet {
+  Vec2 root{0.0, 250.0};
+  Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
+  Vec2 flange_n{-left.y(), left.x()};
+  Vec2 toe;
+  explicit GappedFillet(double gap) : toe(root + gap / std::abs(right.dot(flange_n)) * right) {}
+  synth::Profile profile() const { return synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}}); }
+};
+
+// The valid columns of p on the line from a v-groove's root edge rr to its
+// top edge rt, strictly between depths 92 and 100 mm, in column order.
+std::vector<int> bevel_columns(const synth::Profile& p, const Vec2& rr, const Vec2& rt) {
+  const Vec2 n = Vec2(rt.y() - rr.y(), rr.x() - rt.x()).normalized();
+  std::vector<int> columns;
+  for (int i = 0; i < p.size(); ++i) {
+    const Vec2 q(p.y[i], p.z[i]);
+    if (p.valid[i] && std::abs(n.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 92 + 1e-3)
+      columns.push_back(i);
+  }
+  return columns;
+}
+
 }  // namespace
 
 TEST_CASE("joint types: names round-trip", "[tracker]") {
@@ -450,11 +475,9 @@ TEST_CASE("fillet noisy: the web's edge is read from its last points on its line
   // reaches to its edge; without the rule the gap reads a spacing or more
   // too wide.
   const double gap = 2.0;
-  const Vec2 root(0.0, 250.0);
-  const Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
-  const Vec2 flange_n(-left.y(), left.x());
-  const Vec2 toe = root + gap / std::abs(right.dot(flange_n)) * right;
-  auto clean = synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}});
+  const GappedFillet f(gap);
+  const Vec2 right = f.right, flange_n = f.flange_n, toe = f.toe;
+  auto clean = f.profile();
   add_noise(clean, 0.15, 2);
   int e = 0;  // the web's first point
   while (!(clean.valid[e] && std::abs((Vec2(clean.y[e], clean.z[e]) - toe).dot(flange_n)) < 1.0 &&
@@ -489,11 +512,9 @@ TEST_CASE("fillet noisy: a short piece of the flange seen through the gap shows 
   // ends on the web's line. The piece still shows the gap; without the rule
   // it reads 0.
   const double gap = 2.0;
-  const Vec2 root(0.0, 250.0);
-  const Vec2 left = synth::dir_deg(-135.0), right = synth::dir_deg(-45.0);
-  const Vec2 flange_n(-left.y(), left.x());
-  const Vec2 toe = root + gap / std::abs(right.dot(flange_n)) * right;
-  auto p = synth::sample({{root + 80 * left, root - 20 * left}, {toe, toe + 80 * right}});
+  const GappedFillet f(gap);
+  const Vec2 root = f.root, left = f.left, right = f.right, flange_n = f.flange_n, toe = f.toe;
+  auto p = f.profile();
   auto params = noisy_params(0.15);
   const Vec2 web_n(-right.y(), right.x());
   int c = 0;  // the first flange column beyond the web's line by more than the tolerance
@@ -615,13 +636,8 @@ TEST_CASE("v-groove: a bevel seen edge-on with three points left after dropouts"
   const Vec2 rt = rr + Vec2(depth * std::tan(7.0 * std::numbers::pi / 180), -depth);
   auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
                           {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}});
-  std::vector<int> bevel;  // the columns that see the second bevel, root first
   const tk::Line bl{Vec2(rt.y() - rr.y(), rr.x() - rt.x()).normalized(), 0.0};
-  for (int i = 0; i < p.size(); ++i) {
-    const Vec2 q(p.y[i], p.z[i]);
-    if (p.valid[i] && std::abs(bl.n.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 92 + 1e-3)
-      bevel.push_back(i);
-  }
+  const std::vector<int> bevel = bevel_columns(p, rr, rt);  // the columns that see the second bevel
   REQUIRE(bevel.size() >= 6);
   // Dropouts leave three points and, one column further, a last one next to
   // the plate top (cut off on both sides: removed as an outlier island).
@@ -654,13 +670,8 @@ TEST_CASE("v-groove noisy: a short bevel's top beyond a short piece of it", "[tr
   const Vec2 lt = lr + Vec2(-depth * std::tan(std::numbers::pi / 6), -depth);
   const Vec2 rt = rr + Vec2(depth * std::tan(7.0 * std::numbers::pi / 180), -depth);
   auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {rr, rt}, {rt, Vec2(80, 92)}});
-  std::vector<int> bevel;
   const tk::Line bl{Vec2(rt.y() - rr.y(), rr.x() - rt.x()).normalized(), 0.0};
-  for (int i = 0; i < p.size(); ++i) {
-    const Vec2 q(p.y[i], p.z[i]);
-    if (p.valid[i] && std::abs(bl.n.dot(q - rr)) < 1e-4 && q.y() < 100 - 1e-3 && q.y() > 92 + 1e-3)
-      bevel.push_back(i);
-  }
+  const std::vector<int> bevel = bevel_columns(p, rr, rt);
   REQUIRE(bevel.size() >= 6);
   const int n = static_cast<int>(bevel.size());
   for (int k = 0; k < n - 5; ++k) p.invalidate(bevel[k], bevel[k]);
