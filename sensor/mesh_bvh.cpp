@@ -141,14 +141,21 @@ template <class Visible, class Leaf>
   }
 }
 
-[[gnu::always_inline]] inline bool MeshBvh::may_face(std::uint32_t i, const Eigen::Vector3d& centre,
-                                                     const Eigen::Vector3d& half) const {
+MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
+  Facing f;
+  f.centre = 0.5 * (box.lo + box.hi);
+  f.half = 0.5 * (box.hi - box.lo);
+  f.r = max_abs_coord_ + f.centre.cwiseAbs().maxCoeff() + f.half.maxCoeff();
+  return f;
+}
+
+[[gnu::always_inline]] inline bool MeshBvh::may_face(std::uint32_t i, const Facing& f) const {
   const auto& c = corners_[i];
   const Eigen::Vector3d a(c[0], c[1], c[2]);
   const Eigen::Vector3d e1 = Eigen::Vector3d(c[3], c[4], c[5]) - a, e2 = Eigen::Vector3d(c[6], c[7], c[8]) - a;
   const Eigen::Vector3d nrm = e1.cross(e2);
   // Largest n . (p - a) over the box.
-  const double best = nrm.dot(centre - a) + nrm.cwiseAbs().dot(half);
+  const double best = nrm.dot(f.centre - a) + nrm.cwiseAbs().dot(f.half);
   if (best >= 0.0) return true;
   // The corners are float roundings (at most 2^-24 r, r bounding every
   // coordinate) of the mesh the caller's exact test uses. Moving a by d
@@ -157,8 +164,7 @@ template <class Visible, class Leaf>
   // 7 (|e1| + |e2|) r d. The margin is 16 times the sum (and covers the double
   // arithmetic here many times over). Lengths taken as sums of |components|
   // (never shorter, and no square roots).
-  const double r = max_abs_coord_ + centre.cwiseAbs().maxCoeff() + half.maxCoeff();
-  const double margin = 0x1p-20 * r * (nrm.lpNorm<1>() + 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) * r);
+  const double margin = 0x1p-20 * f.r * (nrm.lpNorm<1>() + 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) * f.r);
   return best >= -margin;
 }
 
@@ -184,11 +190,7 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
   const double per_spacing = d_max > d_min ? double(count - 1) / (d_max - d_min) : 0.0;  // 1 / mean spacing
   const double mid = 0.5 * (d_min + d_max), half = 0.5 * (d_max - d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
-  Eigen::Vector3d face_centre = Eigen::Vector3d::Zero(), face_half = Eigen::Vector3d::Zero();
-  if (facing) {
-    face_centre = 0.5 * (facing->lo + facing->hi);
-    face_half = 0.5 * (facing->hi - facing->lo);
-  }
+  const Facing face = facing ? facing_of(*facing) : Facing{};
   walk(
       [&](const Node& node) {
         double centre = 0.0, extent = 0.0;
@@ -219,7 +221,7 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
         while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;
         while (k < count && !(lo <= sorted[k].first + tol_mm)) ++k;
         if (k == count || !(hi >= sorted[k].first - tol_mm)) return;
-        if (facing && !may_face(i, face_centre, face_half)) return;
+        if (facing && !may_face(i, face)) return;
         for (; k < count && hi >= sorted[k].first - tol_mm; ++k) out[sorted[k].second].push_back(i);
       });
 }
@@ -227,11 +229,7 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
 VTS_SIMD_CLONES
 void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes, std::vector<std::uint32_t>& out,
                             const Box3* facing) const {
-  Eigen::Vector3d face_centre = Eigen::Vector3d::Zero(), face_half = Eigen::Vector3d::Zero();
-  if (facing) {
-    face_centre = 0.5 * (facing->lo + facing->hi);
-    face_half = 0.5 * (facing->hi - facing->lo);
-  }
+  const Facing face = facing ? facing_of(*facing) : Facing{};
   // The planes in the lanes of 8-float vectors (lanes without a plane:
   // 0 . p + 1 >= 0, always inside), each made more inclusive by a bound on
   // the float rounding of n . p + w over the mesh's coordinates, so the
@@ -265,7 +263,7 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes, std::vector
         const Float8 d2 = w + nx * c[6] + ny * c[7] + nz * c[8];
         // Kept unless some plane has all three corners outside.
         if (any_lane((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) return;
-        if (facing && !may_face(i, face_centre, face_half)) return;
+        if (facing && !may_face(i, face)) return;
         out.push_back(i);
       });
 }

@@ -78,9 +78,16 @@ class MeshBvh {
   // every entry of a visible leaf to `leaf`.
   template <class Visible, class Leaf>
   void walk(Visible visible, Leaf leaf) const;
+  // A facing box as may_face uses it, set up once per query: its centre and
+  // half extent, and r, a bound on every coordinate the test meets.
+  struct Facing {
+    Eigen::Vector3d centre, half;
+    double r = 0.0;
+  };
+  Facing facing_of(const Box3& box) const;
   // Whether the triangle at entry i may face a point of the box (see
-  // crossing_planes), given the box's centre and half extent.
-  bool may_face(std::uint32_t i, const Eigen::Vector3d& centre, const Eigen::Vector3d& half) const;
+  // crossing_planes).
+  bool may_face(std::uint32_t i, const Facing& f) const;
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;            // triangle numbers in leaf order
