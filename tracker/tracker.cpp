@@ -332,27 +332,9 @@ class Matcher {
       bool a_past = beyond(a, a.last, b.line);
       bool b_past = beyond(b, b.first, a.line);
       {
-        const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
-        const std::size_t off =
-            removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
-        bool b_found = false;
-        for (std::size_t k = 0; k < removed.size(); ++k) {
-          const Vec2& o = removed[k];
-          const int col = s_.outlier_cols[off + k];
-          if (a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
-            a_past = true;
-            a_end_col = col, a_end_pt = o;  // the last one: columns ascend
-          }
-          if (!b_found && b.line.distance(o) <= tol_ && beyond_line(b.centroid, o, a.line)) {
-            b_past = b_found = true;
-            b_end_col = col, b_end_pt = o;  // the first one
-          }
-        }
-        // So do the points kept between the plates (a short piece of the
-        // flange seen through the gap, cut off by a dropout or a noisy point).
-        for (int k = a.last + 1; fp.flange_pieces && k < b.first; ++k) {
-          const Vec2& o = pt(k);
-          const int col = s_.cols[k];
+        // A point on a plate's line beyond the other's moves that plate's end
+        // there: a's to the last such point in column order, b's to the first.
+        auto consider = [&](const Vec2& o, int col) {
           if (col > a_end_col && a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
             a_past = true;
             a_end_col = col, a_end_pt = o;
@@ -361,7 +343,14 @@ class Matcher {
             b_past = true;
             b_end_col = col, b_end_pt = o;
           }
-        }
+        };
+        const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
+        const std::size_t off =
+            removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
+        for (std::size_t k = 0; k < removed.size(); ++k) consider(removed[k], s_.outlier_cols[off + k]);
+        // So do the points kept between the plates (a short piece of the
+        // flange seen through the gap, cut off by a dropout or a noisy point).
+        for (int k = a.last + 1; fp.flange_pieces && k < b.first; ++k) consider(pt(k), s_.cols[k]);
       }
       bool web_is_b = true;
       if (fp.web == WebSide::First) web_is_b = false;
