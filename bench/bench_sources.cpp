@@ -10,6 +10,9 @@
 // the camera-shadow test, then the error model on every profile. With
 // ->Threads(k) every benchmark thread owns one source (its own OSMesa context
 // or Embree scene, scanning on that thread only) and its own ScanState.
+// BM_RasterUnmerged/fillet-1m: the raster with its planar merge off
+// (sensor/planar_merge.h), so every triangle is sliced, joined and
+// shadow-tested as given: the cost on a mesh with no flat regions.
 // BM_RasterSingle / BM_ReferenceSingle: one scan() per profile, no error model
 // (what the viewer's sensor thread does at a sensor's rate).
 #include <benchmark/benchmark.h>
@@ -28,8 +31,9 @@ namespace {
 
 constexpr int kBatch = 256;
 
-std::unique_ptr<vts::ProfileSource> make_source(bool raster, const vts::Cell& cell) {
-  if (raster) return vts::make_raster_source(cell.scanner, cell.mesh(), {.threads = 1});
+std::unique_ptr<vts::ProfileSource> make_source(bool raster, const vts::Cell& cell, bool merge_planar = true) {
+  if (raster)
+    return vts::make_raster_source(cell.scanner, cell.mesh(), {.threads = 1, .merge_planar = merge_planar});
   return vts::make_reference_source(cell.scanner, cell.mesh(), 1);
 }
 
@@ -40,9 +44,9 @@ vts::Cell bench_cell(const std::string& name) {
   return *cell;
 }
 
-void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_name) {
+void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_name, bool merge_planar) {
   const vts::Cell cell = bench_cell(cell_name);
-  const auto source = make_source(raster, cell);
+  const auto source = make_source(raster, cell, merge_planar);
   std::vector<vts::Pose> poses(kBatch);
   std::vector<vts::Profile> ideal(kBatch);
   vts::Profile measured;
@@ -108,11 +112,16 @@ const int registered = [] {
     for (int threads : {1, 2}) {
       for (bool raster : {true, false}) {
         const std::string name = std::string(raster ? "BM_Raster/" : "BM_Reference/") + cell;
-        benchmark::RegisterBenchmark(name.c_str(), BM_Pipeline, raster, std::string(cell))
+        benchmark::RegisterBenchmark(name.c_str(), BM_Pipeline, raster, std::string(cell), true)
             ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
       }
     }
   }
+  // The raster source with the planar merge off: every one of fillet-1m's
+  // triangles sliced as given, as on a mesh without flat regions.
+  for (int threads : {1, 2})
+    benchmark::RegisterBenchmark("BM_RasterUnmerged/fillet-1m", BM_Pipeline, true, std::string("fillet-1m"), false)
+        ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
   for (bool raster : {true, false})
     benchmark::RegisterBenchmark(raster ? "BM_RasterSingle/static-B" : "BM_ReferenceSingle/static-B",
                                  BM_Single, raster, std::string("static-B"))

@@ -28,6 +28,7 @@
 #include "render/gl_context.h"
 #include "sensor/error_model.h"
 #include "sensor/mesh_bvh.h"
+#include "sensor/planar_merge.h"
 #include "sensor/rays.h"
 #include "sensor/simd_clones.h"
 #include "shaders/embedded.h"
@@ -174,7 +175,7 @@ bool closed_and_oriented(const std::vector<std::uint32_t>& indices) {
   return true;
 }
 
-PreparedMesh prepare(const Mesh& mesh) {
+PreparedMesh prepare(const Mesh& mesh, bool merge_planar) {
   PreparedMesh out;
   const std::size_t nv = mesh.vertices.size();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -204,17 +205,26 @@ PreparedMesh prepare(const Mesh& mesh) {
 
   std::vector<std::uint32_t> indices;  // 3 per kept triangle
   indices.reserve(3 * mesh.triangles.size());
-  out.planes.reserve(4 * mesh.triangles.size());
+  auto corner = [&](std::uint32_t v) -> Eigen::Vector3d {
+    if (v < nv) return mesh.vertices[v].cast<double>() - out.centre_mm;
+    return Eigen::Vector3d(positions[3 * std::size_t(v)], positions[3 * std::size_t(v) + 1],
+                           positions[3 * std::size_t(v) + 2]);  // a fan centre of the merge
+  };
+  auto cross_of = [&](std::uint32_t v0, std::uint32_t v1, std::uint32_t v2) {
+    const Eigen::Vector3d a = corner(v0);
+    return Eigen::Vector3d((corner(v1) - a).cross(corner(v2) - a));
+  };
   for (const auto& tri : mesh.triangles) {
-    const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>() - out.centre_mm;
-    const Eigen::Vector3d b = mesh.vertices[tri[1]].cast<double>() - out.centre_mm;
-    const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>() - out.centre_mm;
-    const Eigen::Vector3d cross = (b - a).cross(c - a);
-    const double norm = cross.norm();
+    const double norm = cross_of(tri[0], tri[1], tri[2]).norm();
     if (!(norm > 0.0) || !std::isfinite(norm)) continue;  // zero area or non-finite
-    const Eigen::Vector3d n = cross / norm;
-    const double w = n.dot((a + b + c) / 3.0);
     indices.insert(indices.end(), tri.begin(), tri.end());
+  }
+  if (merge_planar) indices = merge_planar_regions(positions, indices, planar_merge_tolerance(positions));
+  out.planes.reserve(4 * indices.size() / 3);
+  for (std::size_t t = 0; t < indices.size(); t += 3) {
+    const Eigen::Vector3d a = corner(indices[t]), b = corner(indices[t + 1]), c = corner(indices[t + 2]);
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    const double w = n.dot((a + b + c) / 3.0);
     out.planes.insert(out.planes.end(), {n.x(), n.y(), n.z(), w});
   }
   out.closed = closed_and_oriented(indices);
@@ -1037,7 +1047,7 @@ class RasterSource final : public ProfileSource {
     // half-angle is fan/2 (sensor/rays.h): NDC x = (y/z) / tan(fan/2).
     s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);
     s.camera_mm = camera_model(desc).centre_mm;
-    s.mesh = prepare(mesh_world);
+    s.mesh = prepare(mesh_world, options.merge_planar);
 
     rows_ = std::clamp(options.rows_per_pass, 1, kMaxRowsPerPass);
     int threads = options.threads;

@@ -1,7 +1,10 @@
 #pragma once
 // The raster profile source: emulates the scanner by rasterizing the optical
 // plane's slice of the mesh into a one-row depth buffer per profile (OSMesa,
-// llvmpipe, headless). For each profile, a bounding-volume hierarchy over the
+// llvmpipe, headless). The mesh's flat regions are first re-triangulated
+// with the few triangles their outlines need (sensor/planar_merge.h: a plate
+// meshed into half a million triangles is 12 again; curved surfaces stay as
+// they are). For each profile, a bounding-volume hierarchy over the
 // mesh (sensor/mesh_bvh.h) finds the triangles its laser plane cuts; each cut
 // is a segment in the plane (collinear runs joined), sent as one triangle in
 // its profile's row, already projected (column coordinate y/z, reversed depth
@@ -37,6 +40,11 @@ struct RasterOptions {
   int threads = 0;
   // Profiles per draw (at most 256).
   int rows_per_pass = 256;
+  // Re-triangulate flat regions of the mesh first (sensor/planar_merge.h):
+  // a finely meshed flat face is sliced as the few triangles its outline
+  // needs. The surface moves by at most about 16 float epsilons of the
+  // part's size; off, every triangle is drawn as given.
+  bool merge_planar = true;
 };
 
 // Builds a source over a copy of mesh_world (world frame, mm); the mesh is

@@ -68,11 +68,16 @@ Agreement compare(const Profile& raster, const Profile& ref) {
   return a;
 }
 
-std::unique_ptr<ProfileSource> raster_for(const Cell& c) { return make_raster_source(c.scanner, c.mesh()); }
+std::unique_ptr<ProfileSource> raster_for(const Cell& c, bool merge_planar) {
+  return make_raster_source(c.scanner, c.mesh(), {.merge_planar = merge_planar});
+}
 std::unique_ptr<ProfileSource> reference_for(const Cell& c) { return make_reference_source(c.scanner, c.mesh()); }
 
-void check_poses(const Cell& cell, const std::vector<Pose>& poses, int* total_columns = nullptr) {
-  auto raster = raster_for(cell);
+// merge_planar: the raster source re-triangulates flat regions first
+// (sensor/planar_merge.h; the default), or draws every triangle as given.
+void check_poses(const Cell& cell, const std::vector<Pose>& poses, bool merge_planar,
+                 int* total_columns = nullptr) {
+  auto raster = raster_for(cell, merge_planar);
   auto reference = reference_for(cell);
   Profile a, b;
   double max_diff = 0.0;
@@ -81,7 +86,7 @@ void check_poses(const Cell& cell, const std::vector<Pose>& poses, int* total_co
     raster->scan(poses[k], a);
     reference->scan(poses[k], b);
     const Agreement g = compare(a, b);
-    INFO(cell.name << " pose " << k << ": " << g.both_valid << " columns agree, max diff " << g.max_diff_mm
+    INFO(cell.name << (merge_planar ? "" : " (unmerged)") << " pose " << k << ": " << g.both_valid << " columns agree, max diff " << g.max_diff_mm
                    << " mm, " << g.disagreements << " disagreements");
     CHECK(g.max_diff_mm <= kRangeTolMm);
     CHECK(g.unexplained == 0);
@@ -90,7 +95,7 @@ void check_poses(const Cell& cell, const std::vector<Pose>& poses, int* total_co
     disagreements += g.disagreements;
     valid += g.both_valid;
   }
-  WARN(cell.name << ": " << poses.size() << " poses, " << valid << " columns agree (max |diff| " << max_diff
+  WARN(cell.name << (merge_planar ? "" : " (unmerged)") << ": " << poses.size() << " poses, " << valid << " columns agree (max |diff| " << max_diff
                  << " mm), " << disagreements << " disagreeing columns, all next to a discontinuity");
 }
 
@@ -101,16 +106,19 @@ TEST_CASE("raster and reference agree on every built-in cell along its path", "[
     const Cell cell = *builtin_cell(name);
     std::vector<Pose> poses;
     for (int i = 0; i < 20; ++i) poses.push_back(cell.path.pose_at(i * 5));
-    int agreeing = 0;
-    check_poses(cell, poses, &agreeing);
-    INFO(name);
-    CHECK(agreeing > 20 * cell.scanner.points / 2);  // the cells are mostly in view
+    for (const bool merge : {true, false}) {
+      int agreeing = 0;
+      check_poses(cell, poses, merge, &agreeing);
+      INFO(name);
+      CHECK(agreeing > 20 * cell.scanner.points / 2);  // the cells are mostly in view
+    }
   }
 }
 
 // A million triangles: the large-mesh paths of the raster source (blocks of
-// parallel laser planes culled together, collinear slice runs joined) against
-// Embree on the same mesh.
+// parallel laser planes culled together, collinear slice runs joined: with
+// the planar merge off, as on a mesh with no flat regions) against Embree on
+// the same mesh; and with the merge on (24 triangles left).
 TEST_CASE("raster and reference agree on the 1M-triangle fillet-1m", "[gl][crosscheck]") {
   const Cell cell = *builtin_cell("fillet-1m");
   REQUIRE(cell.mesh().triangle_count() > 1'000'000);
@@ -124,12 +132,15 @@ TEST_CASE("raster and reference agree on the 1M-triangle fillet-1m", "[gl][cross
     const Vec3 view = (default_view_direction(w) + 0.4 * Vec3(u(rng), u(rng), u(rng))).normalized();
     poses.push_back(sensor_pose_looking_at(target, view, 150.0 + 100.0 * u(rng), w.seam_direction()));
   }
-  int agreeing = 0;
-  check_poses(cell, poses, &agreeing);
-  CHECK(agreeing > 24 * cell.scanner.points / 2);
+  for (const bool merge : {true, false}) {
+    int agreeing = 0;
+    check_poses(cell, poses, merge, &agreeing);
+    CHECK(agreeing > 24 * cell.scanner.points / 2);
+  }
   // The same poses as one batch (several workers, several passes' worth of
   // culling blocks) give the same profiles as one scan each.
-  auto raster = make_raster_source(cell.scanner, cell.mesh(), {.threads = 2, .rows_per_pass = 5});
+  auto raster = make_raster_source(cell.scanner, cell.mesh(),
+                                   {.threads = 2, .rows_per_pass = 5, .merge_planar = false});
   std::vector<Profile> batch(poses.size());
   raster->scan_batch(poses, batch);
   Profile one;
@@ -160,7 +171,7 @@ TEST_CASE("raster and reference agree at 240 seeded random sensor poses", "[gl][
       p.linear() = p.linear() * Eigen::AngleAxisd(0.35 * u(rng), Vec3::UnitZ()).toRotationMatrix();
       poses.push_back(p);
     }
-    check_poses(cell, poses);
+    for (const bool merge : {true, false}) check_poses(cell, poses, merge);
     poses_checked += static_cast<int>(poses.size());
   }
   CHECK(poses_checked >= 200);
@@ -170,7 +181,7 @@ TEST_CASE("cross-check holds at N = 16 and 256 and 4096", "[gl][crosscheck]") {
   for (int n : {16, 256, 4096}) {
     Cell cell = *builtin_cell("vgroove");
     cell.scanner.points = n;
-    check_poses(cell, {cell.path.pose_at(0), cell.path.pose_at(50)});
+    check_poses(cell, {cell.path.pose_at(0), cell.path.pose_at(50)}, true);
   }
 }
 
@@ -205,7 +216,7 @@ TEST_CASE("static setups A-F: points on the analytic plates and fitted lines mee
     const auto planes = w.face_planes();
     // The flange's top face (z = 0) and the web's open-side face (through the root, normal +y).
     const Vec3 flange_n = Vec3::UnitZ(), web_n = Vec3::UnitY();
-    std::unique_ptr<ProfileSource> sources[] = {raster_for(cell), reference_for(cell)};
+    std::unique_ptr<ProfileSource> sources[] = {raster_for(cell, true), reference_for(cell)};
     for (auto& source : sources) {
       Profile p;
       const Pose pose = cell.path.pose_at(0);
