@@ -181,7 +181,8 @@ std::vector<std::uint32_t> merge_planar_regions(std::vector<float>& positions,
       if (!droppable(loops[i])) kept.push_back(loops[i]);
   };
   // Strictly convex but for kept vertices the border runs straight through
-  // (within tol), at least three corners, and the region's area.
+  // (within tol), at least three corners, fewer triangles than the region,
+  // and the region's area.
   std::size_t corners = 0;
   auto convex_and_same_area = [&](std::size_t r) {
     const std::size_t m = kept.size();
@@ -207,6 +208,9 @@ std::vector<std::uint32_t> merge_planar_regions(std::vector<float>& positions,
       perimeter += (x - v).norm();
     }
     if (corners < 3) return false;
+    // Worth it only with fewer triangles than the region has (a fan from a
+    // corner needs m - 2, one from the centroid m).
+    if ((corners == m ? m - 2 : m) >= size_of(r)) return false;
     double area = 0.0;
     for (std::uint32_t q = region_begin[r]; q < region_begin[r + 1]; ++q) {
       const std::uint32_t t = order[q];

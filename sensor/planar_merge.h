@@ -16,7 +16,8 @@
 //   - the loop is convex once every droppable vertex is left out: it turns
 //     left at every vertex but those it runs straight through (within the
 //     tolerance), and at three or more,
-//   - the area of that polygon equals the region's.
+//   - the area of that polygon equals the region's,
+//   - its fan has fewer triangles than the region.
 // A border vertex is droppable when at most two regions meet at it, every
 // one of them is replaced, and the border runs straight through it (within
 // the tolerance) in each: so both sides of a shared border drop the same

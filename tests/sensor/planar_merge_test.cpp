@@ -279,3 +279,47 @@ TEST_CASE("planar merge: the built-in cells' plates are prisms of one polygon pe
     CHECK(volume(s, out) == Approx(volume(s, s.indices)).epsilon(1e-7));
   }
 }
+
+TEST_CASE("planar merge: damaged flat meshes keep their area and get no degenerate triangle", "[merge]") {
+  // Seeded damage to a folded, finely meshed sheet (two flat halves at an
+  // angle): triangles dropped, duplicated or flipped, vertices nudged by
+  // about the tolerance, a vertex index shared by far-apart triangles.
+  // Whatever is merged or kept, the area stays and no triangle is flat.
+  for (std::uint32_t seed = 1; seed <= 60; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Soup s;
+    grid(s, 12, 6, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, kNoSkip, kFlat);
+    grid(s, 12, 6, {0, 6, 0}, {1, 0, 0}, {0, 0.6, 0.8}, kNoSkip, kFlat);
+    const double tol = 1e-4;
+    for (std::size_t v = 0; v < s.positions.size(); ++v)
+      if (unit(rng) < 0.05) s.positions[v] += float((unit(rng) - 0.5) * 4.0 * tol);
+    std::vector<std::uint32_t> damaged;
+    for (std::size_t t = 0; t < s.indices.size(); t += 3) {
+      const double r = unit(rng);
+      std::uint32_t a = s.indices[t], b = s.indices[t + 1], c = s.indices[t + 2];
+      if (r < 0.05) continue;                       // dropped
+      if (r < 0.08) std::swap(b, c);                // flipped
+      damaged.insert(damaged.end(), {a, b, c});
+      if (r > 0.97) damaged.insert(damaged.end(), {a, b, c});  // duplicated
+    }
+    if (unit(rng) < 0.5) damaged[1] = damaged[damaged.size() - 2];  // a stray shared vertex
+    // Only triangles of non-zero area go in (as the raster source filters).
+    std::vector<std::uint32_t> in;
+    for (std::size_t t = 0; t < damaged.size(); t += 3) {
+      const auto a = s.at(damaged[t]);
+      if ((s.at(damaged[t + 1]) - a).cross(s.at(damaged[t + 2]) - a).norm() > 0.0)
+        in.insert(in.end(), {damaged[t], damaged[t + 1], damaged[t + 2]});
+    }
+    const auto out = merge_planar_regions(s.positions, in, tol);
+    INFO("seed " << seed << ": " << in.size() / 3 << " -> " << out.size() / 3 << " triangles");
+    REQUIRE(out.size() % 3 == 0);
+    CHECK(out.size() <= in.size());
+    CHECK(area(s, out) == Approx(area(s, in)).epsilon(1e-4));
+    for (std::size_t t = 0; t < out.size(); t += 3) {
+      REQUIRE(out[t + 2] < s.positions.size() / 3);
+      const auto a = s.at(out[t]);
+      CHECK((s.at(out[t + 1]) - a).cross(s.at(out[t + 2]) - a).norm() > 1e-9);
+    }
+  }
+}
