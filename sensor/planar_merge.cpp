@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <utility>
 
@@ -190,7 +191,7 @@ std::vector<std::uint32_t> merge_planar_regions(std::vector<float>& positions,
     if (m < 3) return false;
     const Vec3& n = region_normal[r];
     const Vec3 o = point(kept[0]);
-    double poly_area = 0.0, perimeter = 0.0;
+    double poly_area = 0.0, perimeter = 0.0, turning = 0.0;
     for (std::size_t i = 0; i < m; ++i) {
       const Vec3 u = point(kept[(i + m - 1) % m]), v = point(kept[i]), x = point(kept[(i + 1) % m]);
       // (u, v, x) turns left about n when (x - u) x (v - u) . n < 0; its
@@ -206,8 +207,12 @@ std::vector<std::uint32_t> merge_planar_regions(std::vector<float>& positions,
       }
       poly_area += 0.5 * (v - o).cross(x - o).dot(n);
       perimeter += (x - v).norm();
+      turning += std::atan2((v - u).cross(x - v).dot(n), (v - u).dot(x - v));
     }
     if (corners < 3) return false;
+    // Turning left everywhere, once around: a star that winds twice (a
+    // region of overlapping triangles can have that outline) turns 4 pi.
+    if (!(turning < 3.0 * std::numbers::pi)) return false;
     // Worth it only with fewer triangles than the region has (a fan from a
     // corner needs m - 2, one from the centroid m).
     if ((corners == m ? m - 2 : m) >= size_of(r)) return false;

@@ -15,7 +15,7 @@
 //   - its border is one closed loop (a disk: no holes, no pinched vertex),
 //   - the loop is convex once every droppable vertex is left out: it turns
 //     left at every vertex but those it runs straight through (within the
-//     tolerance), and at three or more,
+//     tolerance), and at three or more, once around (not a star),
 //   - the area of that polygon equals the region's,
 //   - its fan has fewer triangles than the region.
 // A border vertex is droppable when at most two regions meet at it, every
