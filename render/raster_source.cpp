@@ -144,19 +144,14 @@ struct PreparedMesh {
   MeshBvh bvh;                 // over the kept triangles (corners in the centred frame)
   // (nx, ny, nz, w) per hierarchy entry (kept triangles in the hierarchy's
   // leaf order: neighbours in space are neighbours in memory), centred world
-  // mm. Entries are what the workers pass around and draw.
+  // mm. Entries are what the workers pass around and draw. Entry e faces the
+  // point p when p lies strictly on the outward side of its plane,
+  // n . p > w (cut_triangles).
   std::vector<double> planes;
   // Every edge of the kept triangles is used once in each direction: the
   // mesh bounds solids with consistent winding, so a triangle that faces away
   // from the laser is always behind one that faces it (from outside).
   bool closed = false;
-
-  // Hierarchy entry e faces the point p (centred world): p lies strictly on
-  // the outward side of its plane.
-  bool faces(std::uint32_t e, const Eigen::Vector3d& p) const {
-    const double* plane = &planes[4 * std::size_t(e)];
-    return plane[0] * p.x() + plane[1] * p.y() + plane[2] * p.z() > plane[3];
-  }
 };
 
 bool closed_and_oriented(const std::vector<std::uint32_t>& indices) {
@@ -285,6 +280,85 @@ int float_filter(const float* __restrict dx, const float* __restrict dy, const f
     any |= hit;
   }
   return any;
+}
+
+// Cutting a triangle with a profile's laser plane x = 0 (sensor frame):
+// Worker::pass cuts a profile's triangles in batches with cut_triangles and
+// hands those with a corner exactly on the plane to Worker::slice. Both take
+// the corners to the sensor frame with to_sensor and compute an edge's
+// crossing with edge_crossing from its lexicographically smaller corner
+// (lex_less), so the two triangles on an edge produce bit-identical end
+// points and the slice stays watertight.
+struct CutFrame {
+  double r[9];  // sensor from mesh-centred world, row-major
+  double o[3];  // laser origin, mesh-centred world
+  bool closed;  // faces turned away from the laser are hidden (PreparedMesh::closed)
+};
+
+// p_s = R^T (c - o) in double, for a corner c as the hierarchy keeps it (the
+// order of the operations is the one Eigen's product took here before).
+inline void to_sensor(const CutFrame& f, float cx, float cy, float cz, double& x, double& y, double& z) {
+  const double d0 = double(cx) - f.o[0], d1 = double(cy) - f.o[1], d2 = double(cz) - f.o[2];
+  x = (f.r[0] * d0 + f.r[1] * d1) + f.r[2] * d2;
+  y = (f.r[3] * d0 + f.r[4] * d1) + f.r[5] * d2;
+  z = (f.r[7] * d1 + f.r[8] * d2) + f.r[6] * d0;
+}
+
+// Whether corner b comes before corner a, coordinates compared in turn.
+inline bool lex_less(const float* b, const float* a) {
+  return (b[0] < a[0]) | ((b[0] == a[0]) & ((b[1] < a[1]) | ((b[1] == a[1]) & (b[2] < a[2]))));
+}
+
+// Where the edge from a (its smaller corner) to b meets x = 0.
+inline void edge_crossing(double xa, double ya, double za, double xb, double yb, double zb, double& y, double& z) {
+  const double t = xa / (xa - xb);
+  y = ya + t * (yb - ya);
+  z = za + t * (zb - za);
+}
+
+// One profile's triangles in one branch-free loop that vectorizes (cloned
+// like float_filter): corner k's coordinate q of triangle j at c[3 k + q][j],
+// its plane's (nx, ny, nz, w) at plane[q][j] (PreparedMesh::planes). The cut
+// runs through the two edges of the corner alone on its side. kind[j]: 0 no
+// cut (turned away on a closed mesh, or all on one side), 1 a cut from
+// (y0, z0) to (y1, z1), 2 a corner lies on the plane (for Worker::slice).
+constexpr int kCutBatch = 64;
+struct CutBatch {
+  alignas(64) float c[9][kCutBatch];
+  alignas(64) double plane[4][kCutBatch];
+  alignas(64) double y0[kCutBatch], z0[kCutBatch], y1[kCutBatch], z1[kCutBatch];
+  alignas(64) int kind[kCutBatch];
+};
+VTS_SIMD_CLONES
+void cut_triangles(int count, const CutFrame frame, CutBatch& __restrict b) {
+  const CutFrame f = frame;  // a local: the loop then loads only the batch's arrays, and vectorizes
+  for (int j = 0; j < count; ++j) {
+    const bool faces = (b.plane[0][j] * f.o[0] + b.plane[1][j] * f.o[1]) + b.plane[2][j] * f.o[2] > b.plane[3][j];
+    float c[9];
+    for (int q = 0; q < 9; ++q) c[q] = b.c[q][j];
+    double x[3], y[3], z[3];
+    for (int k = 0; k < 3; ++k) to_sensor(f, c[3 * k], c[3 * k + 1], c[3 * k + 2], x[k], y[k], z[k]);
+    // Edge k runs from corner k to k + 1; its crossing (meaningless where
+    // it does not cross).
+    double ey[3], ez[3];
+    for (int k = 0; k < 3; ++k) {
+      const int a = k, e = (k + 1) % 3;
+      const bool swap = lex_less(c + 3 * e, c + 3 * a);
+      edge_crossing(swap ? x[e] : x[a], swap ? y[e] : y[a], swap ? z[e] : z[a], swap ? x[a] : x[e],
+                    swap ? y[a] : y[e], swap ? z[a] : z[e], ey[k], ez[k]);
+    }
+    // The corner alone on its side and its two edges, in edge order (as
+    // slice() finds them): corner 0: edges 0, 2; 1: edges 0, 1; 2: edges 1, 2.
+    const bool n0 = x[0] < 0.0, n1 = x[1] < 0.0, n2 = x[2] < 0.0;
+    const bool on = (x[0] == 0.0) | (x[1] == 0.0) | (x[2] == 0.0);
+    const bool lone1 = n1 != n0 && n1 != n2, lone2 = n2 != n0 && n2 != n1;
+    b.y0[j] = lone2 ? ey[1] : ey[0];
+    b.z0[j] = lone2 ? ez[1] : ez[0];
+    b.y1[j] = lone1 ? ey[1] : ey[2];
+    b.z1[j] = lone1 ? ez[1] : ez[2];
+    const int cuts = (n0 != n1) | (n1 != n2);
+    b.kind[j] = (faces | !f.closed) * (on ? 2 : cuts);
+  }
 }
 
 // The sight lines of every column of a profile (ShadowTester below), in
@@ -667,34 +741,27 @@ class Worker {
     std::uint32_t entry;  // hierarchy entry of the triangle it was cut from
   };
 
-  // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
-  // sensor frame and, if the cut is a segment, appends it to segments_. Edge
-  // crossings are computed from the edge's lexicographically smaller corner,
-  // so the two triangles on an edge produce bit-identical end points and the
-  // slice stays watertight.
-  void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
-    // A face turned away from the laser is hidden behind the solid's front.
-    if (s_.mesh.closed && !s_.mesh.faces(e, origin_c)) return;
-    const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
-    Eigen::Vector3d v[3];
-    for (int k = 0; k < 3; ++k)
-      v[k] = rt * (Eigen::Vector3d(c[3 * k], c[3 * k + 1], c[3 * k + 2]) - origin_c);
-    auto smaller = [&](int a, int b) {
-      return std::lexicographical_compare(&c[3 * a], &c[3 * a + 3], &c[3 * b], &c[3 * b + 3]);
-    };
+  // Cuts the triangle at hierarchy entry e (facing the laser, if the mesh
+  // is closed) with the laser plane and, if the cut is a segment, appends it
+  // to segments_; for any triangle, while cut_triangles leaves it only those
+  // with a corner on the plane (see there).
+  void slice(std::uint32_t e, const CutFrame& f) {
+    const float* c = s_.mesh.bvh.corners(e).data();
+    double x[3], y[3], z[3];
+    for (int k = 0; k < 3; ++k) to_sensor(f, c[3 * k], c[3 * k + 1], c[3 * k + 2], x[k], y[k], z[k]);
     // End points: corners on the plane, and crossings of edges whose ends lie
     // strictly on opposite sides.
     Eigen::Vector2d ends[3];
     int count = 0;
     for (int k = 0; k < 3; ++k)
-      if (v[k].x() == 0.0) ends[count++] = v[k].tail<2>();
+      if (x[k] == 0.0) ends[count++] = Eigen::Vector2d(y[k], z[k]);
     if (count == 3) return;  // lies in the plane: seen edge-on, covers no column
     for (int k = 0; k < 3 && count < 2; ++k) {
       int a = k, b = (k + 1) % 3;
-      if (!((v[a].x() < 0.0 && v[b].x() > 0.0) || (v[a].x() > 0.0 && v[b].x() < 0.0))) continue;
-      if (smaller(b, a)) std::swap(a, b);
-      const double s = v[a].x() / (v[a].x() - v[b].x());
-      ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
+      if (!((x[a] < 0.0 && x[b] > 0.0) || (x[a] > 0.0 && x[b] < 0.0))) continue;
+      if (lex_less(c + 3 * b, c + 3 * a)) std::swap(a, b);
+      edge_crossing(x[a], y[a], z[a], x[b], y[b], z[b], ends[count].x(), ends[count].y());
+      ++count;
     }
     if (count < 2 || ends[0] == ends[1]) return;
     segments_.push_back({ends[0], ends[1], e});
@@ -886,13 +953,36 @@ class Worker {
                                   std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr);
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
-        const Eigen::Matrix3d rt = poses[k].linear().transpose();
+        const Eigen::Matrix3d r = poses[k].linear();
         const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+        CutFrame frame{};
+        for (int q = 0; q < 9; ++q) frame.r[q] = r(q % 3, q / 3);
+        for (int q = 0; q < 3; ++q) frame.o[q] = origin_c[q];
+        frame.closed = s_.mesh.closed;
         segments_.clear();
-        // The planes (for the facing test) lie apart from the corners the
-        // hierarchy just read: fetch them all ahead of use.
-        for (std::uint32_t e : row_entries_[k - k0]) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
-        for (std::uint32_t e : row_entries_[k - k0]) slice(e, rt, origin_c);
+        // The triangles cut in batches (cut_triangles), their corners and
+        // planes gathered first; the cuts collected in entry order, slice()
+        // taking those with a corner on the plane.
+        const std::vector<std::uint32_t>& entries = row_entries_[k - k0];
+        for (std::size_t first = 0; first < entries.size(); first += kCutBatch) {
+          const int m = static_cast<int>(std::min<std::size_t>(kCutBatch, entries.size() - first));
+          for (int j = 0; j < m; ++j) {
+            const std::uint32_t e = entries[first + j];
+            const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
+            for (int q = 0; q < 9; ++q) cut_.c[q][j] = c[q];
+            for (int q = 0; q < 4; ++q) cut_.plane[q][j] = s_.mesh.planes[4 * std::size_t(e) + q];
+          }
+          cut_triangles(m, frame, cut_);
+          for (int j = 0; j < m; ++j) {
+            if (cut_.kind[j] == 0) continue;
+            if (cut_.kind[j] == 2) {
+              slice(entries[first + j], frame);
+              continue;
+            }
+            const Eigen::Vector2d p0(cut_.y0[j], cut_.z0[j]), p1(cut_.y1[j], cut_.z1[j]);
+            if (p0 != p1) segments_.push_back({p0, p1, entries[first + j]});
+          }
+        }
         join_collinear();
         for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
       }
@@ -964,6 +1054,7 @@ class Worker {
   std::vector<std::uint32_t> link_;        // per segment end: the end it meets, or kNone
   std::vector<std::uint32_t> slot_of_;     // per segment end: its point's slot
   std::vector<std::uint8_t> used_;
+  CutBatch cut_;  // cut_triangles' input and output
   std::vector<std::uint32_t> readback_;    // per row, column: triangle + 1, 0 = no hit
   GLuint program_ = 0;
   GLuint vao_ = 0, stream_vbo_ = 0;
