@@ -361,6 +361,63 @@ void cut_triangles(int count, const CutFrame frame, CutBatch& __restrict b) {
   }
 }
 
+// The per-candidate set-up of the camera-shadow test (ShadowTester below)
+// for a batch of candidate triangles, in one branch-free loop that
+// vectorizes (cloned like float_filter), with the operations in the order
+// Eigen's dot and cross products take them (so the same bits as before):
+// corner k's coordinate q of candidate j at c[3 k + q][j]; out: whether all
+// corners lie in front of the camera C (2), all behind (0) or neither (1);
+// the corners' image columns y'/z' (meaningful when all are in front);
+// Moeller-Trumbore's A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and
+// tq = e2 . Q in the world frame.
+constexpr int kShadowBatch = 64;
+struct ShadowBatch {
+  alignas(64) float c[9][kShadowBatch];
+  alignas(64) int front[kShadowBatch];
+  alignas(64) double lo[kShadowBatch], hi[kShadowBatch];
+  alignas(64) double mt[10][kShadowBatch];  // A, B, Q (x, y, z each), tq
+};
+struct ShadowFrame {
+  double c[3], za[3], ya[3];  // camera centre, its z' and y', mesh-centred world
+};
+VTS_SIMD_CLONES
+void shadow_setup(int count, const ShadowFrame frame, ShadowBatch& __restrict b) {
+  const ShadowFrame f = frame;  // a local: the loop then loads only the batch's arrays, and vectorizes
+  auto dot = [](double x0, double x1, double x2, const double* y) { return (x0 * y[0] + x1 * y[1]) + x2 * y[2]; };
+  for (int j = 0; j < count; ++j) {
+    double p[3][3], v[3][3], z[3], col[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int q = 0; q < 3; ++q) {
+        p[k][q] = b.c[3 * k + q][j];
+        v[k][q] = p[k][q] - f.c[q];
+      }
+      z[k] = dot(v[k][0], v[k][1], v[k][2], f.za);
+      col[k] = dot(v[k][0], v[k][1], v[k][2], f.ya) / z[k];
+    }
+    const bool all_front = (z[0] > 0.0) & (z[1] > 0.0) & (z[2] > 0.0);
+    const bool all_behind = (z[0] <= 0.0) & (z[1] <= 0.0) & (z[2] <= 0.0);
+    b.front[j] = all_front ? 2 : all_behind ? 0 : 1;
+    const double lo = col[1] < col[0] ? col[1] : col[0], hi = col[0] < col[1] ? col[1] : col[0];
+    b.lo[j] = col[2] < lo ? col[2] : lo;
+    b.hi[j] = hi < col[2] ? col[2] : hi;
+    double e1[3], e2[3], t[3];
+    for (int q = 0; q < 3; ++q) {
+      e1[q] = p[1][q] - p[0][q];
+      e2[q] = p[2][q] - p[0][q];
+      t[q] = f.c[q] - p[0][q];
+    }
+    auto cross = [&](const double* x, const double* y, int m) {
+      b.mt[m][j] = x[1] * y[2] - x[2] * y[1];
+      b.mt[m + 1][j] = x[2] * y[0] - x[0] * y[2];
+      b.mt[m + 2][j] = x[0] * y[1] - x[1] * y[0];
+    };
+    cross(e2, e1, 0);
+    cross(e2, t, 3);
+    cross(t, e1, 6);
+    b.mt[9][j] = (e2[0] * b.mt[6][j] + e2[1] * b.mt[7][j]) + e2[2] * b.mt[8][j];
+  }
+}
+
 // The sight lines of every column of a profile (ShadowTester below), in
 // one branch-free loop that vectorizes (cloned like float_filter): D = P - C
 // in the sensor frame with P = range * direction, its depth z' = D . za and
@@ -563,48 +620,57 @@ class ShadowTester {
     // Moeller-Trumbore with the common origin C: per triangle the vectors
     // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
     // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
-    for (std::uint32_t e : candidates_) {
-      const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
-      const Eigen::Vector3d pa(k[0], k[1], k[2]), pb(k[3], k[4], k[5]), pc(k[6], k[7], k[8]);
-      // The sight lines that can cross the triangle: a crossing point lies
-      // in front of C, on the sight line's image column, and inside the
-      // triangle, whose image (when all of it is in front) spans the
-      // corners' image columns.
-      int j0 = a, j1 = b + 1;
-      {
-        const Eigen::Vector3d va = pa - camera_w_, vb = pb - camera_w_, vc = pc - camera_w_;
-        const double za = va.dot(za_w_), zb = vb.dot(za_w_), zcc = vc.dot(za_w_);
-        if (za <= 0.0 && zb <= 0.0 && zcc <= 0.0) continue;  // all behind the camera
-        if (za > 0.0 && zb > 0.0 && zcc > 0.0) {
-          const double ca = va.dot(ya_w_) / za, cb = vb.dot(ya_w_) / zb, cc = vc.dot(ya_w_) / zcc;
-          const double lo = std::min({ca, cb, cc}), hi = std::max({ca, cb, cc});
-          const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
-          j0 = first_image_col(lo - slack, a, b + 1, false);
-          j1 = first_image_col(hi + slack, j0, b + 1, true);
-          if (j0 >= j1) continue;
-        }
+    // Set up in batches (shadow_setup), the corners gathered first.
+    const ShadowFrame frame{{camera_w_.x(), camera_w_.y(), camera_w_.z()},
+                            {za_w_.x(), za_w_.y(), za_w_.z()},
+                            {ya_w_.x(), ya_w_.y(), ya_w_.z()}};
+    for (std::size_t first = 0; first < candidates_.size(); first += kShadowBatch) {
+      const int count = static_cast<int>(std::min<std::size_t>(kShadowBatch, candidates_.size() - first));
+      for (int i = 0; i < count; ++i) {
+        const std::array<float, 9>& k = s_.mesh.bvh.corners(candidates_[first + i]);
+        for (int q = 0; q < 9; ++q) batch_.c[q][i] = k[q];
       }
-      const Eigen::Vector3d e1v = pb - pa, e2v = pc - pa, tv = camera_w_ - pa;
-      const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
-      const double tq = e2v.dot(qv);
-      if (j1 - j0 > kFloatFilterColumns) {
-        // Many sight lines: first in float, branch-free so the compiler
-        // vectorizes it, with a little slack so it misses nothing; then
-        // every candidate hit again in double. Float alone is not enough: a
-        // face the camera sees almost edge-on puts the crossing with the
-        // point's own face a few hundredths of a millimetre off the point.
-        const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
-        const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
-        const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
-        const int any = float_filter(dx_.data(), dy_.data(), dz_.data(), tmax_.data(), j0, j1,
-                                     {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
-        if (!any) continue;
-        for (int j = j0; j < j1; ++j)
-          if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
-      } else {
-        for (int j = j0; j < j1; ++j)
-          if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
-      }
+      shadow_setup(count, frame, batch_);
+      for (int i = 0; i < count; ++i) test_candidate(i, a, b);
+    }
+  }
+
+  // Candidate i of batch_ against the run [a, b]'s sight lines.
+  void test_candidate(int i, int a, int b) {
+    // The sight lines that can cross the triangle: a crossing point lies
+    // in front of C, on the sight line's image column, and inside the
+    // triangle, whose image (when all of it is in front) spans the
+    // corners' image columns.
+    if (batch_.front[i] == 0) return;  // all behind the camera
+    int j0 = a, j1 = b + 1;
+    if (batch_.front[i] == 2) {
+      const double lo = batch_.lo[i], hi = batch_.hi[i];
+      const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
+      j0 = first_image_col(lo - slack, a, b + 1, false);
+      j1 = first_image_col(hi + slack, j0, b + 1, true);
+      if (j0 >= j1) return;
+    }
+    const Eigen::Vector3d av(batch_.mt[0][i], batch_.mt[1][i], batch_.mt[2][i]);
+    const Eigen::Vector3d bv(batch_.mt[3][i], batch_.mt[4][i], batch_.mt[5][i]);
+    const Eigen::Vector3d qv(batch_.mt[6][i], batch_.mt[7][i], batch_.mt[8][i]);
+    const double tq = batch_.mt[9][i];
+    if (j1 - j0 > kFloatFilterColumns) {
+      // Many sight lines: first in float, branch-free so the compiler
+      // vectorizes it, with a little slack so it misses nothing; then
+      // every candidate hit again in double. Float alone is not enough: a
+      // face the camera sees almost edge-on puts the crossing with the
+      // point's own face a few hundredths of a millimetre off the point.
+      const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
+      const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
+      const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
+      const int any = float_filter(dx_.data(), dy_.data(), dz_.data(), tmax_.data(), j0, j1,
+                                   {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
+      if (!any) return;
+      for (int j = j0; j < j1; ++j)
+        if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+    } else {
+      for (int j = j0; j < j1; ++j)
+        if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
     }
   }
 
@@ -651,6 +717,7 @@ class ShadowTester {
   std::array<std::pair<int, int>, 128> runs_{};
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
+  ShadowBatch batch_;  // shadow_setup's input and output
 };
 
 // One OpenGL context with its pipeline and scratch, used by one thread at a
