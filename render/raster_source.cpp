@@ -144,19 +144,14 @@ struct PreparedMesh {
   MeshBvh bvh;                 // over the kept triangles (corners in the centred frame)
   // (nx, ny, nz, w) per hierarchy entry (kept triangles in the hierarchy's
   // leaf order: neighbours in space are neighbours in memory), centred world
-  // mm. Entries are what the workers pass around and draw.
+  // mm. Entries are what the workers pass around and draw. Entry e faces the
+  // point p when p lies strictly on the outward side of its plane,
+  // n . p > w (cut_triangles).
   std::vector<double> planes;
   // Every edge of the kept triangles is used once in each direction: the
   // mesh bounds solids with consistent winding, so a triangle that faces away
   // from the laser is always behind one that faces it (from outside).
   bool closed = false;
-
-  // Hierarchy entry e faces the point p (centred world): p lies strictly on
-  // the outward side of its plane.
-  bool faces(std::uint32_t e, const Eigen::Vector3d& p) const {
-    const double* plane = &planes[4 * std::size_t(e)];
-    return plane[0] * p.x() + plane[1] * p.y() + plane[2] * p.z() > plane[3];
-  }
 };
 
 bool closed_and_oriented(const std::vector<std::uint32_t>& indices) {
@@ -285,6 +280,142 @@ int float_filter(const float* __restrict dx, const float* __restrict dy, const f
     any |= hit;
   }
   return any;
+}
+
+// Cutting a triangle with a profile's laser plane x = 0 (sensor frame):
+// Worker::pass cuts a profile's triangles in batches with cut_triangles and
+// hands those with a corner exactly on the plane to Worker::slice. Both take
+// the corners to the sensor frame with to_sensor and compute an edge's
+// crossing with edge_crossing from its lexicographically smaller corner
+// (lex_less), so the two triangles on an edge produce bit-identical end
+// points and the slice stays watertight.
+struct CutFrame {
+  double r[9];  // sensor from mesh-centred world, row-major
+  double o[3];  // laser origin, mesh-centred world
+  bool closed;  // faces turned away from the laser are hidden (PreparedMesh::closed)
+};
+
+// p_s = R^T (c - o) in double, for a corner c as the hierarchy keeps it (the
+// order of the operations is the one Eigen's product took here before).
+inline void to_sensor(const CutFrame& f, float cx, float cy, float cz, double& x, double& y, double& z) {
+  const double d0 = double(cx) - f.o[0], d1 = double(cy) - f.o[1], d2 = double(cz) - f.o[2];
+  x = (f.r[0] * d0 + f.r[1] * d1) + f.r[2] * d2;
+  y = (f.r[3] * d0 + f.r[4] * d1) + f.r[5] * d2;
+  z = (f.r[7] * d1 + f.r[8] * d2) + f.r[6] * d0;
+}
+
+// Whether corner b comes before corner a, coordinates compared in turn.
+inline bool lex_less(const float* b, const float* a) {
+  return (b[0] < a[0]) | ((b[0] == a[0]) & ((b[1] < a[1]) | ((b[1] == a[1]) & (b[2] < a[2]))));
+}
+
+// Where the edge from a (its smaller corner) to b meets x = 0.
+inline void edge_crossing(double xa, double ya, double za, double xb, double yb, double zb, double& y, double& z) {
+  const double t = xa / (xa - xb);
+  y = ya + t * (yb - ya);
+  z = za + t * (zb - za);
+}
+
+// One profile's triangles in one branch-free loop that vectorizes (cloned
+// like float_filter): corner k's coordinate q of triangle j at c[3 k + q][j],
+// its plane's (nx, ny, nz, w) at plane[q][j] (PreparedMesh::planes). The cut
+// runs through the two edges of the corner alone on its side. kind[j]: 0 no
+// cut (turned away on a closed mesh, or all on one side), 1 a cut from
+// (y0, z0) to (y1, z1), 2 a corner lies on the plane (for Worker::slice).
+constexpr int kCutBatch = 64;
+struct CutBatch {
+  alignas(64) float c[9][kCutBatch];
+  alignas(64) double plane[4][kCutBatch];
+  alignas(64) double y0[kCutBatch], z0[kCutBatch], y1[kCutBatch], z1[kCutBatch];
+  alignas(64) int kind[kCutBatch];
+};
+VTS_SIMD_CLONES
+void cut_triangles(int count, const CutFrame frame, CutBatch& __restrict b) {
+  const CutFrame f = frame;  // a local: the loop then loads only the batch's arrays, and vectorizes
+  for (int j = 0; j < count; ++j) {
+    const bool faces = (b.plane[0][j] * f.o[0] + b.plane[1][j] * f.o[1]) + b.plane[2][j] * f.o[2] > b.plane[3][j];
+    float c[9];
+    for (int q = 0; q < 9; ++q) c[q] = b.c[q][j];
+    double x[3], y[3], z[3];
+    for (int k = 0; k < 3; ++k) to_sensor(f, c[3 * k], c[3 * k + 1], c[3 * k + 2], x[k], y[k], z[k]);
+    // Edge k runs from corner k to k + 1; its crossing (meaningless where
+    // it does not cross).
+    double ey[3], ez[3];
+    for (int k = 0; k < 3; ++k) {
+      const int a = k, e = (k + 1) % 3;
+      const bool swap = lex_less(c + 3 * e, c + 3 * a);
+      edge_crossing(swap ? x[e] : x[a], swap ? y[e] : y[a], swap ? z[e] : z[a], swap ? x[a] : x[e],
+                    swap ? y[a] : y[e], swap ? z[a] : z[e], ey[k], ez[k]);
+    }
+    // The corner alone on its side and its two edges, in edge order (as
+    // slice() finds them): corner 0: edges 0, 2; 1: edges 0, 1; 2: edges 1, 2.
+    const bool n0 = x[0] < 0.0, n1 = x[1] < 0.0, n2 = x[2] < 0.0;
+    const bool on = (x[0] == 0.0) | (x[1] == 0.0) | (x[2] == 0.0);
+    const bool lone1 = n1 != n0 && n1 != n2, lone2 = n2 != n0 && n2 != n1;
+    b.y0[j] = lone2 ? ey[1] : ey[0];
+    b.z0[j] = lone2 ? ez[1] : ez[0];
+    b.y1[j] = lone1 ? ey[1] : ey[2];
+    b.z1[j] = lone1 ? ez[1] : ez[2];
+    const int cuts = (n0 != n1) | (n1 != n2);
+    b.kind[j] = (faces | !f.closed) * (on ? 2 : cuts);
+  }
+}
+
+// The per-candidate set-up of the camera-shadow test (ShadowTester below)
+// for a batch of candidate triangles, in one branch-free loop that
+// vectorizes (cloned like float_filter), with the operations in the order
+// Eigen's dot and cross products take them (so the same bits as before):
+// corner k's coordinate q of candidate j at c[3 k + q][j]; out: whether all
+// corners lie in front of the camera C (2), all behind (0) or neither (1);
+// the corners' image columns y'/z' (meaningful when all are in front);
+// Moeller-Trumbore's A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and
+// tq = e2 . Q in the world frame.
+constexpr int kShadowBatch = 64;
+struct ShadowBatch {
+  alignas(64) float c[9][kShadowBatch];
+  alignas(64) int front[kShadowBatch];
+  alignas(64) double lo[kShadowBatch], hi[kShadowBatch];
+  alignas(64) double mt[10][kShadowBatch];  // A, B, Q (x, y, z each), tq
+};
+struct ShadowFrame {
+  double c[3], za[3], ya[3];  // camera centre, its z' and y', mesh-centred world
+};
+VTS_SIMD_CLONES
+void shadow_setup(int count, const ShadowFrame frame, ShadowBatch& __restrict b) {
+  const ShadowFrame f = frame;  // a local: the loop then loads only the batch's arrays, and vectorizes
+  auto dot = [](double x0, double x1, double x2, const double* y) { return (x0 * y[0] + x1 * y[1]) + x2 * y[2]; };
+  for (int j = 0; j < count; ++j) {
+    double p[3][3], v[3][3], z[3], col[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int q = 0; q < 3; ++q) {
+        p[k][q] = b.c[3 * k + q][j];
+        v[k][q] = p[k][q] - f.c[q];
+      }
+      z[k] = dot(v[k][0], v[k][1], v[k][2], f.za);
+      col[k] = dot(v[k][0], v[k][1], v[k][2], f.ya) / z[k];
+    }
+    const bool all_front = (z[0] > 0.0) & (z[1] > 0.0) & (z[2] > 0.0);
+    const bool all_behind = (z[0] <= 0.0) & (z[1] <= 0.0) & (z[2] <= 0.0);
+    b.front[j] = all_front ? 2 : all_behind ? 0 : 1;
+    const double lo = col[1] < col[0] ? col[1] : col[0], hi = col[0] < col[1] ? col[1] : col[0];
+    b.lo[j] = col[2] < lo ? col[2] : lo;
+    b.hi[j] = hi < col[2] ? col[2] : hi;
+    double e1[3], e2[3], t[3];
+    for (int q = 0; q < 3; ++q) {
+      e1[q] = p[1][q] - p[0][q];
+      e2[q] = p[2][q] - p[0][q];
+      t[q] = f.c[q] - p[0][q];
+    }
+    auto cross = [&](const double* x, const double* y, int m) {
+      b.mt[m][j] = x[1] * y[2] - x[2] * y[1];
+      b.mt[m + 1][j] = x[2] * y[0] - x[0] * y[2];
+      b.mt[m + 2][j] = x[0] * y[1] - x[1] * y[0];
+    };
+    cross(e2, e1, 0);
+    cross(e2, t, 3);
+    cross(t, e1, 6);
+    b.mt[9][j] = (e2[0] * b.mt[6][j] + e2[1] * b.mt[7][j]) + e2[2] * b.mt[8][j];
+  }
 }
 
 // The sight lines of every column of a profile (ShadowTester below), in
@@ -489,48 +620,57 @@ class ShadowTester {
     // Moeller-Trumbore with the common origin C: per triangle the vectors
     // A = e2 x e1, B = e2 x T, Q = T x e1 (T = C - a) and tq = e2 . Q; per
     // sight line D: det = D.A, u = D.B / det, v = D.Q / det, t = tq / det.
-    for (std::uint32_t e : candidates_) {
-      const std::array<float, 9>& k = s_.mesh.bvh.corners(e);
-      const Eigen::Vector3d pa(k[0], k[1], k[2]), pb(k[3], k[4], k[5]), pc(k[6], k[7], k[8]);
-      // The sight lines that can cross the triangle: a crossing point lies
-      // in front of C, on the sight line's image column, and inside the
-      // triangle, whose image (when all of it is in front) spans the
-      // corners' image columns.
-      int j0 = a, j1 = b + 1;
-      {
-        const Eigen::Vector3d va = pa - camera_w_, vb = pb - camera_w_, vc = pc - camera_w_;
-        const double za = va.dot(za_w_), zb = vb.dot(za_w_), zcc = vc.dot(za_w_);
-        if (za <= 0.0 && zb <= 0.0 && zcc <= 0.0) continue;  // all behind the camera
-        if (za > 0.0 && zb > 0.0 && zcc > 0.0) {
-          const double ca = va.dot(ya_w_) / za, cb = vb.dot(ya_w_) / zb, cc = vc.dot(ya_w_) / zcc;
-          const double lo = std::min({ca, cb, cc}), hi = std::max({ca, cb, cc});
-          const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
-          j0 = first_image_col(lo - slack, a, b + 1, false);
-          j1 = first_image_col(hi + slack, j0, b + 1, true);
-          if (j0 >= j1) continue;
-        }
+    // Set up in batches (shadow_setup), the corners gathered first.
+    const ShadowFrame frame{{camera_w_.x(), camera_w_.y(), camera_w_.z()},
+                            {za_w_.x(), za_w_.y(), za_w_.z()},
+                            {ya_w_.x(), ya_w_.y(), ya_w_.z()}};
+    for (std::size_t first = 0; first < candidates_.size(); first += kShadowBatch) {
+      const int count = static_cast<int>(std::min<std::size_t>(kShadowBatch, candidates_.size() - first));
+      for (int i = 0; i < count; ++i) {
+        const std::array<float, 9>& k = s_.mesh.bvh.corners(candidates_[first + i]);
+        for (int q = 0; q < 9; ++q) batch_.c[q][i] = k[q];
       }
-      const Eigen::Vector3d e1v = pb - pa, e2v = pc - pa, tv = camera_w_ - pa;
-      const Eigen::Vector3d av = e2v.cross(e1v), bv = e2v.cross(tv), qv = tv.cross(e1v);
-      const double tq = e2v.dot(qv);
-      if (j1 - j0 > kFloatFilterColumns) {
-        // Many sight lines: first in float, branch-free so the compiler
-        // vectorizes it, with a little slack so it misses nothing; then
-        // every candidate hit again in double. Float alone is not enough: a
-        // face the camera sees almost edge-on puts the crossing with the
-        // point's own face a few hundredths of a millimetre off the point.
-        const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
-        const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
-        const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
-        const int any = float_filter(dx_.data(), dy_.data(), dz_.data(), tmax_.data(), j0, j1,
-                                     {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
-        if (!any) continue;
-        for (int j = j0; j < j1; ++j)
-          if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
-      } else {
-        for (int j = j0; j < j1; ++j)
-          if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
-      }
+      shadow_setup(count, frame, batch_);
+      for (int i = 0; i < count; ++i) test_candidate(i, a, b);
+    }
+  }
+
+  // Candidate i of batch_ against the run [a, b]'s sight lines.
+  void test_candidate(int i, int a, int b) {
+    // The sight lines that can cross the triangle: a crossing point lies
+    // in front of C, on the sight line's image column, and inside the
+    // triangle, whose image (when all of it is in front) spans the
+    // corners' image columns.
+    if (batch_.front[i] == 0) return;  // all behind the camera
+    int j0 = a, j1 = b + 1;
+    if (batch_.front[i] == 2) {
+      const double lo = batch_.lo[i], hi = batch_.hi[i];
+      const double slack = 1e-9 * (1.0 + std::max(std::abs(lo), std::abs(hi)));
+      j0 = first_image_col(lo - slack, a, b + 1, false);
+      j1 = first_image_col(hi + slack, j0, b + 1, true);
+      if (j0 >= j1) return;
+    }
+    const Eigen::Vector3d av(batch_.mt[0][i], batch_.mt[1][i], batch_.mt[2][i]);
+    const Eigen::Vector3d bv(batch_.mt[3][i], batch_.mt[4][i], batch_.mt[5][i]);
+    const Eigen::Vector3d qv(batch_.mt[6][i], batch_.mt[7][i], batch_.mt[8][i]);
+    const double tq = batch_.mt[9][i];
+    if (j1 - j0 > kFloatFilterColumns) {
+      // Many sight lines: first in float, branch-free so the compiler
+      // vectorizes it, with a little slack so it misses nothing; then
+      // every candidate hit again in double. Float alone is not enough: a
+      // face the camera sees almost edge-on puts the crossing with the
+      // point's own face a few hundredths of a millimetre off the point.
+      const float ax = float(av.x()), ay = float(av.y()), az = float(av.z());
+      const float bx = float(bv.x()), by = float(bv.y()), bz = float(bv.z());
+      const float qx = float(qv.x()), qy = float(qv.y()), qz = float(qv.z()), tqf = float(tq);
+      const int any = float_filter(dx_.data(), dy_.data(), dz_.data(), tmax_.data(), j0, j1,
+                                   {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
+      if (!any) return;
+      for (int j = j0; j < j1; ++j)
+        if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+    } else {
+      for (int j = j0; j < j1; ++j)
+        if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
     }
   }
 
@@ -577,6 +717,7 @@ class ShadowTester {
   std::array<std::pair<int, int>, 128> runs_{};
   std::array<Eigen::Vector4d, 8> planes_s_{}, planes_w_{};
   std::vector<std::uint32_t> candidates_;
+  ShadowBatch batch_;  // shadow_setup's input and output
 };
 
 // One OpenGL context with its pipeline and scratch, used by one thread at a
@@ -667,34 +808,27 @@ class Worker {
     std::uint32_t entry;  // hierarchy entry of the triangle it was cut from
   };
 
-  // Cuts the triangle at hierarchy entry e with the laser plane x = 0 of the
-  // sensor frame and, if the cut is a segment, appends it to segments_. Edge
-  // crossings are computed from the edge's lexicographically smaller corner,
-  // so the two triangles on an edge produce bit-identical end points and the
-  // slice stays watertight.
-  void slice(std::uint32_t e, const Eigen::Matrix3d& rt, const Eigen::Vector3d& origin_c) {
-    // A face turned away from the laser is hidden behind the solid's front.
-    if (s_.mesh.closed && !s_.mesh.faces(e, origin_c)) return;
-    const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
-    Eigen::Vector3d v[3];
-    for (int k = 0; k < 3; ++k)
-      v[k] = rt * (Eigen::Vector3d(c[3 * k], c[3 * k + 1], c[3 * k + 2]) - origin_c);
-    auto smaller = [&](int a, int b) {
-      return std::lexicographical_compare(&c[3 * a], &c[3 * a + 3], &c[3 * b], &c[3 * b + 3]);
-    };
+  // Cuts the triangle at hierarchy entry e (facing the laser, if the mesh
+  // is closed) with the laser plane and, if the cut is a segment, appends it
+  // to segments_; for any triangle, while cut_triangles leaves it only those
+  // with a corner on the plane (see there).
+  void slice(std::uint32_t e, const CutFrame& f) {
+    const float* c = s_.mesh.bvh.corners(e).data();
+    double x[3], y[3], z[3];
+    for (int k = 0; k < 3; ++k) to_sensor(f, c[3 * k], c[3 * k + 1], c[3 * k + 2], x[k], y[k], z[k]);
     // End points: corners on the plane, and crossings of edges whose ends lie
     // strictly on opposite sides.
     Eigen::Vector2d ends[3];
     int count = 0;
     for (int k = 0; k < 3; ++k)
-      if (v[k].x() == 0.0) ends[count++] = v[k].tail<2>();
+      if (x[k] == 0.0) ends[count++] = Eigen::Vector2d(y[k], z[k]);
     if (count == 3) return;  // lies in the plane: seen edge-on, covers no column
     for (int k = 0; k < 3 && count < 2; ++k) {
       int a = k, b = (k + 1) % 3;
-      if (!((v[a].x() < 0.0 && v[b].x() > 0.0) || (v[a].x() > 0.0 && v[b].x() < 0.0))) continue;
-      if (smaller(b, a)) std::swap(a, b);
-      const double s = v[a].x() / (v[a].x() - v[b].x());
-      ends[count++] = v[a].tail<2>() + s * (v[b].tail<2>() - v[a].tail<2>());
+      if (!((x[a] < 0.0 && x[b] > 0.0) || (x[a] > 0.0 && x[b] < 0.0))) continue;
+      if (lex_less(c + 3 * b, c + 3 * a)) std::swap(a, b);
+      edge_crossing(x[a], y[a], z[a], x[b], y[b], z[b], ends[count].x(), ends[count].y());
+      ++count;
     }
     if (count < 2 || ends[0] == ends[1]) return;
     segments_.push_back({ends[0], ends[1], e});
@@ -886,13 +1020,36 @@ class Worker {
                                   std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr);
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
-        const Eigen::Matrix3d rt = poses[k].linear().transpose();
+        const Eigen::Matrix3d r = poses[k].linear();
         const Eigen::Vector3d origin_c = poses[k].translation() - s_.mesh.centre_mm;
+        CutFrame frame{};
+        for (int q = 0; q < 9; ++q) frame.r[q] = r(q % 3, q / 3);
+        for (int q = 0; q < 3; ++q) frame.o[q] = origin_c[q];
+        frame.closed = s_.mesh.closed;
         segments_.clear();
-        // The planes (for the facing test) lie apart from the corners the
-        // hierarchy just read: fetch them all ahead of use.
-        for (std::uint32_t e : row_entries_[k - k0]) __builtin_prefetch(&s_.mesh.planes[4 * std::size_t(e)]);
-        for (std::uint32_t e : row_entries_[k - k0]) slice(e, rt, origin_c);
+        // The triangles cut in batches (cut_triangles), their corners and
+        // planes gathered first; the cuts collected in entry order, slice()
+        // taking those with a corner on the plane.
+        const std::vector<std::uint32_t>& entries = row_entries_[k - k0];
+        for (std::size_t first = 0; first < entries.size(); first += kCutBatch) {
+          const int m = static_cast<int>(std::min<std::size_t>(kCutBatch, entries.size() - first));
+          for (int j = 0; j < m; ++j) {
+            const std::uint32_t e = entries[first + j];
+            const std::array<float, 9>& c = s_.mesh.bvh.corners(e);
+            for (int q = 0; q < 9; ++q) cut_.c[q][j] = c[q];
+            for (int q = 0; q < 4; ++q) cut_.plane[q][j] = s_.mesh.planes[4 * std::size_t(e) + q];
+          }
+          cut_triangles(m, frame, cut_);
+          for (int j = 0; j < m; ++j) {
+            if (cut_.kind[j] == 0) continue;
+            if (cut_.kind[j] == 2) {
+              slice(entries[first + j], frame);
+              continue;
+            }
+            const Eigen::Vector2d p0(cut_.y0[j], cut_.z0[j]), p1(cut_.y1[j], cut_.z1[j]);
+            if (p0 != p1) segments_.push_back({p0, p1, entries[first + j]});
+          }
+        }
         join_collinear();
         for (const Segment& g : segments_) emit(g, static_cast<std::uint32_t>(k), count);
       }
@@ -964,6 +1121,7 @@ class Worker {
   std::vector<std::uint32_t> link_;        // per segment end: the end it meets, or kNone
   std::vector<std::uint32_t> slot_of_;     // per segment end: its point's slot
   std::vector<std::uint8_t> used_;
+  CutBatch cut_;  // cut_triangles' input and output
   std::vector<std::uint32_t> readback_;    // per row, column: triangle + 1, 0 = no hit
   GLuint program_ = 0;
   GLuint vao_ = 0, stream_vbo_ = 0;

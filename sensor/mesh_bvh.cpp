@@ -79,6 +79,52 @@ MeshBvh::MeshBvh(std::span<const float> positions, std::span<const std::uint32_t
   std::vector<std::array<float, 9>> ordered(tri_count_);
   for (std::size_t i = 0; i < tri_count_; ++i) ordered[i] = corners_[order_[i]];
   corners_ = std::move(ordered);
+
+  // The facing bounds, children before parents (a child's index is larger
+  // than its parent's). A triangle without a finite unit normal makes its
+  // nodes' margins infinite: never dropped whole.
+  node_facing_.resize(nodes_.size());
+  for (std::size_t k = nodes_.size(); k-- > 0;) {
+    const Node& node = nodes_[k];
+    NodeFacing& f = node_facing_[k];
+    if (node.count == 0) {
+      const NodeFacing& a = node_facing_[k + 1];
+      const NodeFacing& b = node_facing_[node.first];
+      for (int j = 0; j < 3; ++j) {
+        f.lo[j] = std::min(a.lo[j], b.lo[j]);
+        f.hi[j] = std::max(a.hi[j], b.hi[j]);
+      }
+      f.per_n = std::max(a.per_n, b.per_n);
+      f.per_edges = std::max(a.per_edges, b.per_edges);
+      continue;
+    }
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double per_n = 0.0, per_edges = 0.0;
+    for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+      const auto& c = corners_[i];
+      const Eigen::Vector3d a(c[0], c[1], c[2]);
+      const Eigen::Vector3d e1 = Eigen::Vector3d(c[3], c[4], c[5]) - a, e2 = Eigen::Vector3d(c[6], c[7], c[8]) - a;
+      const Eigen::Vector3d nrm = e1.cross(e2);
+      const double len = nrm.norm();
+      if (!(len > 0.0) || !std::isfinite(len)) {
+        per_n = INFINITY;
+        continue;
+      }
+      for (int j = 0; j < 3; ++j) {
+        lo[j] = std::min(lo[j], nrm[j] / len);
+        hi[j] = std::max(hi[j], nrm[j] / len);
+      }
+      per_n = std::max(per_n, nrm.lpNorm<1>() / len);
+      per_edges = std::max(per_edges, 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) / len);
+    }
+    // Widened far beyond the rounding of the unit normals and of the floats.
+    for (int j = 0; j < 3; ++j) {
+      f.lo[j] = static_cast<float>(lo[j] - 1e-6);
+      f.hi[j] = static_cast<float>(hi[j] + 1e-6);
+    }
+    f.per_n = static_cast<float>(per_n * (1.0 + 1e-6));
+    f.per_edges = static_cast<float>(per_edges * (1.0 + 1e-6));
+  }
 }
 
 void MeshBvh::build(std::uint32_t node, std::uint32_t begin, std::uint32_t end,
@@ -168,6 +214,25 @@ MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
   return best >= -margin;
 }
 
+[[gnu::always_inline]] inline bool MeshBvh::node_may_face(std::uint32_t node, const Facing& f) const {
+  // For a triangle under the node with unit normal u and corner a, and p in
+  // the box: u . (p - a) is at most the sum over the axes of the largest
+  // product of u's and (p - a)'s bounds (the box's minus the node's). When
+  // that is below minus the largest margin over |n| may_face would allow,
+  // every triangle under the node is turned away (with room for the
+  // rounding here).
+  const NodeFacing& nf = node_facing_[node];
+  const Node& b = nodes_[node];
+  double best = 0.0, reach = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double lo = f.centre[k] - f.half[k] - b.hi[k], hi = f.centre[k] + f.half[k] - b.lo[k];
+    best += std::max(std::max(nf.lo[k] * lo, nf.lo[k] * hi), std::max(nf.hi[k] * lo, nf.hi[k] * hi));
+    reach = std::max(reach, std::max(std::abs(lo), std::abs(hi)));
+  }
+  const double margin = 0x1p-20 * f.r * (nf.per_n + nf.per_edges * f.r) + 1e-9 * reach;
+  return !(best < -margin);  // NaN: kept
+}
+
 void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                               double tol_mm, std::span<std::vector<std::uint32_t>> out,
@@ -199,7 +264,8 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           centre += n[k] * 0.5 * (double(node.lo[k]) + node.hi[k]);
           extent += an[k] * 0.5 * (double(node.hi[k]) - node.lo[k]);
         }
-        return std::abs(centre - mid) <= extent + half;
+        if (!(std::abs(centre - mid) <= extent + half)) return false;
+        return !facing || node_may_face(static_cast<std::uint32_t>(&node - nodes_.data()), face);
       },
       [&](std::uint32_t i) {
         const auto& c = corners_[i];
@@ -254,7 +320,8 @@ void MeshBvh::inside_planes(std::span<const Eigen::Vector4d> planes, std::vector
         select(px, node.hi[0], node.lo[0], x);
         select(py, node.hi[1], node.lo[1], y);
         select(pz, node.hi[2], node.lo[2], z);
-        return !any_lane(w + nx * x + ny * y + nz * z < 0.0f);
+        if (any_lane(w + nx * x + ny * y + nz * z < 0.0f)) return false;
+        return !facing || node_may_face(static_cast<std::uint32_t>(&node - nodes_.data()), face);
       },
       [&](std::uint32_t i) __attribute__((always_inline)) {
         const auto& c = corners_[i];

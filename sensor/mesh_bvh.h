@@ -88,8 +88,19 @@ class MeshBvh {
   // Whether the triangle at entry i may face a point of the box (see
   // crossing_planes).
   bool may_face(std::uint32_t i, const Facing& f) const;
+  // Whether some triangle under the node may face a point of the box: false
+  // only where may_face is false for every one of them.
+  bool node_may_face(std::uint32_t node, const Facing& f) const;
 
   std::vector<Node> nodes_;
+  // Per node, what node_may_face needs of its triangles: a box around their
+  // unit normals, and the largest of may_face's two margin coefficients
+  // (|n|_1 and 7 (|e1|_1 + |e2|_1)) over |n|, each rounded up.
+  struct NodeFacing {
+    float lo[3], hi[3];
+    float per_n, per_edges;
+  };
+  std::vector<NodeFacing> node_facing_;
   std::vector<std::uint32_t> order_;            // triangle numbers in leaf order
   std::vector<std::array<float, 9>> corners_;   // per triangle, in leaf order
   std::size_t tri_count_ = 0;

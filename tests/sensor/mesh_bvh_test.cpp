@@ -33,6 +33,57 @@ MeshBvh random_soup(int triangles, std::uint32_t seed) {
   return MeshBvh(positions, indices);
 }
 
+// A closed box [0, sx] x [0, sy] x [0, sz], each face cut into a grid of
+// cells of about `cell` mm, two triangles each, wound outwards: leaves of
+// the hierarchy hold triangles of one face, so whole nodes face away.
+MeshBvh gridded_box(double sx, double sy, double sz, double cell) {
+  std::vector<float> positions;
+  std::vector<std::uint32_t> indices;
+  const Eigen::Vector3d size(sx, sy, sz);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const int nu = std::max(1, static_cast<int>(size[u] / cell)), nv = std::max(1, static_cast<int>(size[v] / cell));
+    for (int side = 0; side < 2; ++side) {
+      const auto base = static_cast<std::uint32_t>(positions.size() / 3);
+      for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i <= nu; ++i) {
+          Eigen::Vector3d p = Eigen::Vector3d::Zero();
+          p[axis] = side * size[axis];
+          p[u] = size[u] * i / nu;
+          p[v] = size[v] * j / nv;
+          positions.insert(positions.end(), {float(p.x()), float(p.y()), float(p.z())});
+        }
+      for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+          const std::uint32_t a = base + j * (nu + 1) + i, b = a + 1, c = a + nu + 1, d = c + 1;
+          // u x v points along +axis: counter-clockwise seen from outside on side 1.
+          if (side == 1) indices.insert(indices.end(), {a, b, d, a, d, c});
+          else indices.insert(indices.end(), {a, d, b, a, c, d});
+        }
+    }
+  }
+  return MeshBvh(positions, indices);
+}
+
+// How far the front side of entry e's triangle ((b - a) x (c - a), corners
+// as given) faces the box at best: the largest signed distance of a box
+// corner from its plane; and whether it is a sliver (area small against its
+// edges), whose margin in the queries grows as its area shrinks.
+std::pair<double, bool> facing_margin(const MeshBvh& bvh, std::uint32_t e, const MeshBvh::Box3& box) {
+  const auto& c = bvh.corners(e);
+  const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), cc(c[6], c[7], c[8]);
+  const Eigen::Vector3d nrm = (b - a).cross(cc - a);
+  const double edges = (b - a).norm() + (cc - a).norm();
+  const bool sliver = nrm.norm() < 0.05 * edges * edges;
+  double best = -1e300;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d p(k & 1 ? box.hi.x() : box.lo.x(), k & 2 ? box.hi.y() : box.lo.y(),
+                            k & 4 ? box.hi.z() : box.lo.z());
+    best = std::max(best, nrm.dot(p - a) / nrm.norm());  // signed distance of the nearest-facing point
+  }
+  return {best, sliver};
+}
+
 }  // namespace
 
 TEST_CASE("mesh bvh: crossing_planes finds what a direct test finds for 1 to 150 planes", "[bvh]") {
@@ -108,22 +159,9 @@ TEST_CASE("mesh bvh: inside_planes keeps every triangle the exact test keeps", "
 // slivers, whose margin grows as their area shrinks, are left out).
 TEST_CASE("mesh bvh: a facing box drops the triangles turned away from it, and only those", "[bvh]") {
   const MeshBvh bvh = random_soup(20000, 6);
-  auto facing_margin = [&](std::uint32_t e, const MeshBvh::Box3& box) {
-    const auto& c = bvh.corners(e);
-    const Eigen::Vector3d a(c[0], c[1], c[2]), b(c[3], c[4], c[5]), cc(c[6], c[7], c[8]);
-    const Eigen::Vector3d nrm = (b - a).cross(cc - a);
-    // Slivers (area small against the edges) turn with the rounding of
-    // their corners: the queries' margin grows for them; not checked.
-    const double edges = (b - a).norm() + (cc - a).norm();
-    const bool sliver = nrm.norm() < 0.05 * edges * edges;
-    double best = -1e300;
-    for (int k = 0; k < 8; ++k) {
-      const Eigen::Vector3d p(k & 1 ? box.hi.x() : box.lo.x(), k & 2 ? box.hi.y() : box.lo.y(),
-                              k & 4 ? box.hi.z() : box.lo.z());
-      best = std::max(best, nrm.dot(p - a) / nrm.norm());  // signed distance of the nearest-facing point
-    }
-    return std::pair(best, sliver);
-  };
+  // Slivers (area small against the edges) turn with the rounding of their
+  // corners: the queries' margin grows for them; not checked.
+  auto facing_margin = [&](std::uint32_t e, const MeshBvh::Box3& box) { return ::facing_margin(bvh, e, box); };
   const MeshBvh::Box3 boxes[] = {
       {Eigen::Vector3d(0.0, 0.0, 150.0), Eigen::Vector3d(0.0, 0.0, 150.0)},    // a point (a camera)
       {Eigen::Vector3d(-5.0, 20.0, 120.0), Eigen::Vector3d(3.0, 20.0, 120.0)},  // a short path of laser origins
@@ -174,4 +212,50 @@ TEST_CASE("mesh bvh: a facing box drops the triangles turned away from it, and o
   // The soup faces every way: both outcomes occur.
   CHECK(dropped > 1000);
   CHECK(kept > 1000);
+}
+
+// On a finely meshed closed box the hierarchy drops whole nodes of faces
+// turned away from the facing box (their normals bounded per node): still
+// every triangle facing some point of the box is kept, and every one turned
+// away from all of it by more than 0.01 mm is dropped.
+TEST_CASE("mesh bvh: a facing box drops whole nodes of a meshed box's far faces, and only those", "[bvh]") {
+  const MeshBvh bvh = gridded_box(120.0, 60.0, 6.0, 0.8);
+  const MeshBvh::Box3 boxes[] = {
+      {Eigen::Vector3d(50.0, 30.0, 90.0), Eigen::Vector3d(50.0, 30.0, 90.0)},   // a camera over the top
+      {Eigen::Vector3d(20.0, 70.0, 60.0), Eigen::Vector3d(28.0, 70.0, 60.0)},   // laser origins, top and side
+      {Eigen::Vector3d(-30.0, 10.0, -40.0), Eigen::Vector3d(-30.0, 14.0, -40.0)},  // below, off an end
+  };
+  const Eigen::Vector3d n = Eigen::Vector3d(1.0, 0.1, 0.05).normalized();
+  const std::vector<double> d = {3.0, 17.3, 40.0, 40.5, 41.0, 99.9};
+  const std::vector<Eigen::Vector4d> region = {Eigen::Vector4d(0.0, -1.0, 0.0, 35.0),
+                                               Eigen::Vector4d(1.0, 0.0, 0.0, -10.0)};  // y <= 35, x >= 10
+  int kept = 0, dropped = 0;
+  auto check = [&](std::uint32_t e, bool got, const MeshBvh::Box3& box) {
+    const auto [m, sliver] = facing_margin(bvh, e, box);
+    INFO("entry " << e << ", facing by " << m << " mm");
+    REQUIRE_FALSE(sliver);
+    if (m > 0.0) CHECK(got);
+    if (m < -0.01) CHECK_FALSE(got);
+    (got ? kept : dropped) += 1;
+  };
+  for (const MeshBvh::Box3& box : boxes) {
+    std::vector<std::vector<std::uint32_t>> all(d.size()), faced(d.size());
+    bvh.crossing_planes(n, d, Eigen::Vector3d::Constant(-1e3), Eigen::Vector3d::Constant(1e3), 0.01, all);
+    bvh.crossing_planes(n, d, Eigen::Vector3d::Constant(-1e3), Eigen::Vector3d::Constant(1e3), 0.01, faced, &box);
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const std::set<std::uint32_t> got(faced[k].begin(), faced[k].end());
+      CHECK(got.size() == faced[k].size());
+      for (std::uint32_t e : faced[k]) CHECK(std::count(all[k].begin(), all[k].end(), e) == 1);
+      for (std::uint32_t e : all[k]) check(e, got.count(e) == 1, box);
+    }
+    std::vector<std::uint32_t> all_in, faced_in;
+    bvh.inside_planes(region, all_in);
+    bvh.inside_planes(region, faced_in, &box);
+    const std::set<std::uint32_t> got(faced_in.begin(), faced_in.end());
+    const std::set<std::uint32_t> every(all_in.begin(), all_in.end());
+    for (std::uint32_t e : faced_in) CHECK(every.count(e) == 1);
+    for (std::uint32_t e : all_in) check(e, got.count(e) == 1, box);
+  }
+  CHECK(kept > 1000);
+  CHECK(dropped > 1000);
 }
