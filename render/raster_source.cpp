@@ -1013,11 +1013,30 @@ class Worker {
       }
       lo.array() -= kCullMarginMm;
       hi.array() += kCullMarginMm;
+      // The sides of the fan: emit() drops every segment beyond the
+      // target's columns and a pixel either side (|y / z| > T lim in the
+      // sensor frame), so a triangle entirely beyond one side need not be
+      // cut. When the block's profiles share their orientation, each side
+      // is one plane direction and the block's union lies within the
+      // half-space reaching out to its outermost origin.
+      int sides = 0;
+      bool same_orientation = true;
+      for (int k = k0 + 1; k < k1; ++k) same_orientation = same_orientation && poses[k].linear() == poses[k0].linear();
+      if (same_orientation) {
+        const double tl = s_.tan_half_fan * (1.0 + 2.0 / n);
+        for (const double y_sign : {-1.0, 1.0}) {
+          const Eigen::Vector3d normal = poses[k0].linear() * Eigen::Vector3d(0.0, y_sign, tl);
+          double w = std::numeric_limits<double>::infinity();
+          for (int k = k0; k < k1; ++k) w = std::min(w, normal.dot(poses[k].translation() - s_.mesh.centre_mm));
+          fan_sides_[sides++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), kCullMarginMm * normal.norm() - w);
+        }
+      }
       // Faces turned away from every laser origin of the block (closed
       // meshes: hidden behind the front) are left out here already; slice()
       // decides exactly for each profile.
       s_.mesh.bvh.crossing_planes(n_world, std::span(plane_d_.data(), rows), lo, hi, kCullMarginMm,
-                                  std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr);
+                                  std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr,
+                                  std::span(fan_sides_.data(), static_cast<std::size_t>(sides)));
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
         const Eigen::Matrix3d r = poses[k].linear();
@@ -1111,6 +1130,7 @@ class Worker {
   std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
   std::array<std::vector<std::uint32_t>, kCullBlock> row_entries_;  // per profile of a block
   std::array<double, kCullBlock> plane_d_{};  // laser plane offsets n . origin of a block
+  std::array<Eigen::Vector4d, 2> fan_sides_{};  // a block's fan sides (half-spaces n . p + w >= 0)
   struct Slot {
     std::uint32_t stamp = 0, first = 0, second = 0, count = 0;
   };

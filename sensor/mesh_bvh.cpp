@@ -236,15 +236,16 @@ MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
 void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                               double tol_mm, std::span<std::vector<std::uint32_t>> out,
-                              const Box3* facing) const {
+                              const Box3* facing, std::span<const Eigen::Vector4d> keep) const {
   if (d.empty()) return;
+  assert(keep.size() <= 4);
   // The offsets in increasing order (a triangle crosses a contiguous run of
   // them: found from the mean spacing instead of testing every one), at
   // most kMaxSorted per traversal.
   constexpr std::size_t kMaxSorted = 64;
   if (d.size() > kMaxSorted) {
-    crossing_planes(n, d.first(kMaxSorted), box_lo, box_hi, tol_mm, out.first(kMaxSorted), facing);
-    crossing_planes(n, d.subspan(kMaxSorted), box_lo, box_hi, tol_mm, out.subspan(kMaxSorted), facing);
+    crossing_planes(n, d.first(kMaxSorted), box_lo, box_hi, tol_mm, out.first(kMaxSorted), facing, keep);
+    crossing_planes(n, d.subspan(kMaxSorted), box_lo, box_hi, tol_mm, out.subspan(kMaxSorted), facing, keep);
     return;
   }
   const std::size_t count = d.size();
@@ -265,6 +266,12 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           extent += an[k] * 0.5 * (double(node.hi[k]) - node.lo[k]);
         }
         if (!(std::abs(centre - mid) <= extent + half)) return false;
+        for (const Eigen::Vector4d& h : keep) {
+          // The box's corner farthest into the half-space.
+          double best = h[3];
+          for (int k = 0; k < 3; ++k) best += std::max(h[k] * node.lo[k], h[k] * node.hi[k]);
+          if (best < 0.0) return false;
+        }
         return !facing || node_may_face(static_cast<std::uint32_t>(&node - nodes_.data()), face);
       },
       [&](std::uint32_t i) {
@@ -287,6 +294,12 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
         while (k > 0 && lo <= sorted[k - 1].first + tol_mm) --k;
         while (k < count && !(lo <= sorted[k].first + tol_mm)) ++k;
         if (k == count || !(hi >= sorted[k].first - tol_mm)) return;
+        for (const Eigen::Vector4d& h : keep) {
+          double best = -INFINITY;
+          for (int v = 0; v < 3; ++v)
+            best = std::max(best, h[0] * c[3 * v] + h[1] * c[3 * v + 1] + h[2] * c[3 * v + 2] + h[3]);
+          if (best < 0.0) return;
+        }
         if (facing && !may_face(i, face)) return;
         for (; k < count && hi >= sorted[k].first - tol_mm; ++k) out[sorted[k].second].push_back(i);
       });

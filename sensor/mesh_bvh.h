@@ -47,13 +47,19 @@ class MeshBvh {
   // of the corners (so nothing that faces a point of the box, exactly or
   // within rounding, is dropped). For closed meshes, whose back faces are
   // always hidden behind front faces.
+  //
+  // With `keep` (up to 4 half-spaces dot(plane.xyz, p) + plane.w >= 0, such
+  // as the sides of a laser fan), triangles with every corner outside one of
+  // them are dropped too, and so is every node whose box is. Tested in
+  // double on the corners as given: the caller moves the planes outwards by
+  // whatever margin it needs.
   struct Box3 {
     Eigen::Vector3d lo, hi;
   };
   void crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                        const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                        double tol_mm, std::span<std::vector<std::uint32_t>> out,
-                       const Box3* facing = nullptr) const;
+                       const Box3* facing = nullptr, std::span<const Eigen::Vector4d> keep = {}) const;
 
   // Entries of the triangles not entirely outside any one of the half-spaces
   // dot(plane.xyz, p) + plane.w >= 0 (a convex region; up to 8 planes).

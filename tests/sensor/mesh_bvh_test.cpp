@@ -116,6 +116,55 @@ TEST_CASE("mesh bvh: crossing_planes finds what a direct test finds for 1 to 150
   }
 }
 
+TEST_CASE("mesh bvh: crossing_planes with half-spaces to keep drops exactly the triangles outside one", "[bvh]") {
+  const MeshBvh bvh = random_soup(20000, 6);
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  const Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(-1e3), box_hi = Eigen::Vector3d::Constant(1e3);
+  const double tol = 0.01;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> dir(0.0, 1.0);
+  std::uniform_real_distribution<double> offset(-40.0, 40.0);
+  for (int trial = 0; trial < 12; ++trial) {
+    // 0 to 4 half-spaces, like the two sides of a laser fan (or none).
+    std::vector<Eigen::Vector4d> keep;
+    for (int k = 0; k < trial % 5; ++k) {
+      const Eigen::Vector3d h = Eigen::Vector3d(dir(rng), dir(rng), dir(rng)).normalized();
+      keep.emplace_back(h.x(), h.y(), h.z(), offset(rng));
+    }
+    const int planes = 1 + 5 * trial;
+    std::vector<double> d(planes);
+    for (int k = 0; k < planes; ++k) d[k] = -80.0 + 160.0 * k / std::max(1, planes - 1);
+    std::vector<std::vector<std::uint32_t>> out(planes);
+    bvh.crossing_planes(n, d, box_lo, box_hi, tol, out, nullptr, keep);
+    std::size_t found = 0;
+    for (int k = 0; k < planes; ++k) {
+      std::set<std::uint32_t> expected;
+      for (std::uint32_t e = 0; e < bvh.triangle_count(); ++e) {
+        const auto& c = bvh.corners(e);
+        double lo = 1e300, hi = -1e300;
+        bool outside_one = false;
+        for (int v = 0; v < 3; ++v) {
+          const double s = n[0] * c[3 * v] + n[1] * c[3 * v + 1] + n[2] * c[3 * v + 2];
+          lo = std::min(lo, s);
+          hi = std::max(hi, s);
+        }
+        for (const Eigen::Vector4d& h : keep) {
+          bool all_out = true;
+          for (int v = 0; v < 3; ++v)
+            all_out = all_out && h[0] * c[3 * v] + h[1] * c[3 * v + 1] + h[2] * c[3 * v + 2] + h[3] < 0.0;
+          outside_one = outside_one || all_out;
+        }
+        if (lo <= d[k] + tol && hi >= d[k] - tol && !outside_one) expected.insert(e);
+      }
+      INFO(keep.size() << " half-spaces, " << planes << " planes, plane " << k);
+      CHECK(std::set<std::uint32_t>(out[k].begin(), out[k].end()) == expected);
+      CHECK(out[k].size() == expected.size());
+      found += expected.size();
+    }
+    CHECK(found > 0);
+  }
+}
+
 TEST_CASE("mesh bvh: inside_planes keeps every triangle the exact test keeps", "[bvh]") {
   const MeshBvh bvh = random_soup(20000, 4);
   std::mt19937 rng(5);
