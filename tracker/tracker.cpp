@@ -701,12 +701,15 @@ class Matcher {
   // seen between them are strong evidence only on clean profiles: on noisy
   // ones a dropout (or points removed as outliers) looks the same, unless
   // the rays found nothing over a run of min_hole_columns (dropouts on a
-  // plate are isolated columns).
-  int evidence(const Plate& a, const Plate& b, int a_end, int b_end, bool missing) const {
+  // plate are isolated columns). a_fit, b_fit: the plates' fits to their
+  // points [first, last], if the caller has them.
+  int evidence(const Plate& a, const Plate& b, int a_end, int b_end, bool missing, const LineFit* a_fit = nullptr,
+               const LineFit* b_fit = nullptr) const {
     if (!missing) return 0;
     if (b_end != a_end + 1 || b.line.distance(pt(a_end)) > tol_ || a.line.distance(pt(b_end)) > tol_) return 1;
     if (invalid_run(s_.cols[a_end], s_.cols[b_end]) >= std::max(1, p_.butt.min_hole_columns)) return 1;
-    const auto fa = s_.fit(a.first, a.last), fb = s_.fit(b.first, b.last);
+    const auto fa = a_fit ? std::optional<LineFit>(*a_fit) : s_.fit(a.first, a.last);
+    const auto fb = b_fit ? std::optional<LineFit>(*b_fit) : s_.fit(b.first, b.last);
     const bool noisy = fa && fb && std::max(fa->rms_mm, fb->rms_mm) > 0.25 * tol_;
     return noisy ? 0 : 1;
   }
@@ -743,8 +746,25 @@ class Matcher {
     // next point leaves the line of the s_min points before it, and a few
     // points later a straight run of s_min points starts, parallel to it,
     // with every point between off both lines (the gap's walls).
+    // Fits of the s_min points from a point on, by that point modulo 32: the
+    // test below fits the window before each candidate point and up to
+    // kMaxWallPoints + 1 after it, and neighbouring candidates share them.
+    struct Window {
+      int first = -1;
+      std::optional<LineFit> fit;
+    };
+    std::array<Window, 32> windows;
+    auto window = [&](int first) {
+      Window& w = windows[static_cast<std::size_t>(first) % windows.size()];
+      if (w.first != first) w = Window{first, s_.fit(first, first + s_min - 1)};
+      return w.fit;
+    };
     for (int q = 0; q < n_long(); ++q) {
       const Segment& sg = seg(q);
+      // Sums of points [sg.first, head_last], grown with k: the first part's
+      // sums at a hole, added in the order Segmentation::sums adds them.
+      PointSums head;
+      int head_last = sg.first - 1;
       // All points on one line: only cuts and missing columns can be holes.
       const bool straight = sg.rms_mm <= 0.25 * tol_;
       if (straight && sg.last_col - sg.first_col == sg.count() - 1 &&
@@ -758,7 +778,7 @@ class Matcher {
         const double c = chord.x() * step.y() - chord.y() * step.x();
         const bool departs = c * c > tol_ * tol_ * chord.squaredNorm();
         if (!departs && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
-        const auto local = s_.fit(k - s_min + 1, k);
+        const auto local = window(k - s_min + 1);
         if (!local) continue;
         bool hole = s_.cuts[k];
         // A jump only over points removed as outliers, with the next point
@@ -777,10 +797,9 @@ class Matcher {
         if (!hole) {
           if (local->line.distance(pt(k + 1)) <= tol_) continue;
           for (e = k + 1; e <= std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1); ++e) {
-            const auto next = s_.fit(e, e + s_min - 1);
-            if (!next || next->rms_mm > 0.5 * tol_ ||
-                acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg ||
-                next->line.distance(pt(k)) <= tol_)
+            const auto next = window(e);
+            if (!next || next->rms_mm > 0.5 * tol_ || next->line.distance(pt(k)) <= tol_ ||
+                acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg)
               continue;
             bool walls = true;
             for (int i = k + 1; i < e && walls; ++i)
@@ -792,16 +811,23 @@ class Matcher {
           }
         }
         if (!hole) continue;
-        auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
+        while (head_last < k) head.add(pt(++head_last) - s_.ref_);
+        const PointSums tail = s_.sums(e, sg.last);
+        const auto fa = s_.fit(head), fb = s_.fit(tail);
+        if (!fa || !fb) continue;
+        Plate a{sg.first, k, fa->line, fa->centroid}, b{e, sg.last, fb->line, fb->centroid};
         // Each part over the long segments beyond it on its line, as above.
-        if (a && b && p_.butt.extend_split_plates) {
-          a = extended(*a, s_.sums(sg.first, k), q, -1);
-          b = extended(*b, s_.sums(e, sg.last), q, +1);
+        if (p_.butt.extend_split_plates) {
+          a = extended(a, head, q, -1);
+          b = extended(b, tail, q, +1);
         }
         // Missing columns with both sides on one line are strong evidence only
         // on clean profiles: on noisy ones a dropout looks the same.
         const bool missing = s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1;
-        if (a && b) butt_pair(*a, *b, k + 1, e - 1, evidence(*a, *b, k, e, missing));
+        // evidence() fits a part again only if it was extended.
+        const bool a_own = a.first == sg.first && a.last == k, b_own = b.first == e && b.last == sg.last;
+        butt_pair(a, b, k + 1, e - 1,
+                  evidence(a, b, k, e, missing, a_own ? &*fa : nullptr, b_own ? &*fb : nullptr));
       }
     }
   }
