@@ -107,14 +107,16 @@ int run_end_cluster(const float* ys, const float* zs, const int* cols, int n, in
     const int c0 = dir > 0 ? r0 : r1;          // cluster's point at the cut
     const int e = c0 + dir * l;                // first point after the cluster
     const Vec2 a = raw(o), b = raw(e);
+    // The cluster leaving the line is tested first: most run ends are cut by
+    // invalid columns on one line, and fail here.
+    bool off = false;
+    for (int k = c0; k != e && !off; k += dir) off = beyond_chord(a, b, raw(k), limit);
+    if (!off) continue;
     bool supported = true;
     for (int k = 1; k <= support && supported; ++k)
       supported = !beyond_chord(a, b, raw(o - dir * k), op.support_tol_mm) &&
                   !beyond_chord(a, b, raw(e + dir * k), op.support_tol_mm);
     if (!supported) continue;
-    bool off = false;
-    for (int k = c0; k != e && !off; k += dir) off = beyond_chord(a, b, raw(k), limit);
-    if (!off) continue;
     // It leaves the line and comes back: the step back onto the line is at
     // least half the jump (a wall seen in a gap joins its plate with a short
     // step and leaves the other plate with a long one).
