@@ -749,15 +749,13 @@ class Matcher {
     // Fits of the s_min points from a point on, by that point modulo 32: the
     // test below fits the window before each candidate point and up to
     // kMaxWallPoints + 1 after it, and neighbouring candidates share them.
-    struct Window {
-      int first = -1;
-      std::optional<LineFit> fit;
-    };
-    std::array<Window, 32> windows;
+    std::array<int, 32> window_first;
+    window_first.fill(-1);
+    std::array<std::optional<LineFit>, 32> window_fit;
     auto window = [&](int first) {
-      Window& w = windows[static_cast<std::size_t>(first) % windows.size()];
-      if (w.first != first) w = Window{first, s_.fit(first, first + s_min - 1)};
-      return w.fit;
+      const std::size_t w = static_cast<std::size_t>(first) % window_first.size();
+      if (window_first[w] != first) window_first[w] = first, window_fit[w] = s_.fit(first, first + s_min - 1);
+      return window_fit[w];
     };
     for (int q = 0; q < n_long(); ++q) {
       const Segment& sg = seg(q);
@@ -770,14 +768,20 @@ class Matcher {
       if (straight && sg.last_col - sg.first_col == sg.count() - 1 &&
           !std::memchr(s_.cuts.data() + sg.first, 1, static_cast<std::size_t>(sg.count() - 1)))
         continue;  // no missing column, no jump: nothing to split at
+      // Locals for the cheap tests, which most points fail.
+      const Vec2* points = s_.points.data();
+      const std::uint8_t* cuts = s_.cuts.data();
+      const int* cols = s_.cols.data();
+      const double tol2 = tol_ * tol_;
       for (int k = sg.first + s_min - 1; k <= sg.last - s_min; ++k) {
-        if (straight && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
+        const bool joined = !cuts[k] && cols[k + 1] == cols[k] + 1;
+        if (straight && joined) continue;
         // Cheap test first: does the next point continue the chord before it?
-        const Vec2& pk = pt(k);
-        const Vec2 chord = pk - pt(k - s_min + 1), step = pt(k + 1) - pk;
+        const Vec2& pk = points[k];
+        const Vec2 chord = pk - points[k - s_min + 1], step = points[k + 1] - pk;
         const double c = chord.x() * step.y() - chord.y() * step.x();
-        const bool departs = c * c > tol_ * tol_ * chord.squaredNorm();
-        if (!departs && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
+        const bool departs = c * c > tol2 * chord.squaredNorm();
+        if (!departs && joined) continue;
         const auto local = window(k - s_min + 1);
         if (!local) continue;
         bool hole = s_.cuts[k];
@@ -796,7 +800,16 @@ class Matcher {
         int e = k + 1;  // first point of the second plate
         if (!hole) {
           if (local->line.distance(pt(k + 1)) <= tol_) continue;
-          for (e = k + 1; e <= std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1); ++e) {
+          // Walls end at the first point back on the local line: no later e
+          // has walls before it (on noisy plates that is a point or two on).
+          int e_max = std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1);
+          for (int i = k + 2; i < e_max; ++i) {
+            if (local->line.distance(pt(i)) <= tol_) {
+              e_max = i;
+              break;
+            }
+          }
+          for (e = k + 1; e <= e_max; ++e) {
             const auto next = window(e);
             if (!next || next->rms_mm > 0.5 * tol_ || next->line.distance(pt(k)) <= tol_ ||
                 acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg)
