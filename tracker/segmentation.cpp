@@ -446,10 +446,12 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
     r1 = run_end(s.cuts, r0, np);
     s.leaves_.clear();
     s.stack_.clear();
-    s.stack_.emplace_back(r0, r1);
+    s.stack_.push_back(SplitRegion{r0, r1});
     while (!s.stack_.empty()) {
-      const auto [a, b] = s.stack_.back();
+      SplitRegion region = s.stack_.back();
       s.stack_.pop_back();
+      const int a = region.a, b = region.b;
+      SplitRegion left, right;
       int split_at = -1;
       if (b - a + 1 >= s_min) {
         const Vec2* pts = s.points.data();
@@ -486,8 +488,11 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
           // left to the later steps), when each side fits a line at least
           // twice as well as the whole.
           int rough_at = -1;
+          // The sums are kept for the leaf or the two parts (each part's
+          // rough test, and its segment, would sum it again).
           if (rough_tol_mm > 0.0 && len > 1e-12 && worst > rough_tol_mm) {
-            const auto f = s.fit(a, b);
+            if (!region.summed) region.head = s.sums(a, b - 1), region.summed = true;
+            const auto f = s.fit(s.with_point(region.head, b));
             if (f && f->rms_mm > rough_tol_mm) {
               double far = 0.0;
               for (int k = a + 1; k < b; ++k) {
@@ -498,7 +503,9 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
               // Two lines meet there: each side alone fits a line at least
               // twice as well (a displaced cluster on one line does not).
               if (rough_at >= 0) {
-                const auto l = s.fit(a, rough_at), r = s.fit(rough_at, b);
+                left = SplitRegion{a, rough_at, true, s.sums(a, rough_at - 1)};
+                right = SplitRegion{rough_at, b, true, s.sums(rough_at, b - 1)};
+                const auto l = s.fit(s.with_point(left.head, rough_at)), r = s.fit(s.with_point(right.head, b));
                 if (!l || !r || l->rms_mm > 0.5 * f->rms_mm || r->rms_mm > 0.5 * f->rms_mm) rough_at = -1;
               }
             }
@@ -507,19 +514,25 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         }
       }
       if (split_at < 0) {
-        s.leaves_.push_back(a);
+        s.leaves_.push_back(region);
+      } else if (left.summed) {
+        s.stack_.push_back(right);
+        s.stack_.push_back(left);
       } else {
-        s.stack_.emplace_back(split_at, b);
-        s.stack_.emplace_back(a, split_at);
+        s.stack_.push_back(SplitRegion{split_at, b});
+        s.stack_.push_back(SplitRegion{a, split_at});
       }
     }
     // Leaves share their split points; each shared point starts the next segment.
     for (std::size_t k = 0; k < s.leaves_.size(); ++k) {
+      const SplitRegion& leaf = s.leaves_[k];
       Segment seg;
-      seg.first = s.leaves_[k];
-      seg.last = k + 1 < s.leaves_.size() ? s.leaves_[k + 1] - 1 : r1;
+      seg.first = leaf.a;
+      seg.last = k + 1 < s.leaves_.size() ? s.leaves_[k + 1].a - 1 : r1;
       if (seg.last < seg.first) continue;
-      seg.sums = s.sums(seg.first, seg.last);
+      if (leaf.summed && seg.last == leaf.b - 1) seg.sums = leaf.head;
+      else if (leaf.summed && seg.last == leaf.b) seg.sums = s.with_point(leaf.head, leaf.b);
+      else seg.sums = s.sums(seg.first, seg.last);
       refit(s, seg);
       s.segments.push_back(seg);
     }
