@@ -388,11 +388,37 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   if (span > 0)  // memcpy's pointers must not be null, even for 0 bytes
     std::memcpy(s.column_state.data() + lo, usable, static_cast<std::size_t>(span));  // kColumnKept == 1
   int nv = 0;
-  for (int k = 0; k < span; ++k) {
-    ys[nv] = profile.y_mm[lo + k];
-    zs[nv] = profile.z_mm[lo + k];
-    cols[nv] = lo + k;
-    nv += usable[k];
+  {
+    // Blocks of 8 usable columns (dropouts are rare) are copied whole, and
+    // blocks of 8 unusable ones (outside the view) skipped.
+    constexpr std::uint64_t kAllUsable = 0x0101010101010101ull;
+    const float* py = profile.y_mm.data();
+    const float* pz = profile.z_mm.data();
+    int k = 0;
+    for (; k + 8 <= span; k += 8) {
+      std::uint64_t block;
+      std::memcpy(&block, usable + k, sizeof block);
+      if (block == kAllUsable) {
+        std::memcpy(ys + nv, py + lo + k, 8 * sizeof(float));
+        std::memcpy(zs + nv, pz + lo + k, 8 * sizeof(float));
+        for (int i = 0; i < 8; ++i) cols[nv + i] = lo + k + i;
+        nv += 8;
+        continue;
+      }
+      if (block == 0) continue;
+      for (int i = k; i < k + 8; ++i) {
+        ys[nv] = py[lo + i];
+        zs[nv] = pz[lo + i];
+        cols[nv] = lo + i;
+        nv += usable[i];
+      }
+    }
+    for (; k < span; ++k) {
+      ys[nv] = py[lo + k];
+      zs[nv] = pz[lo + k];
+      cols[nv] = lo + k;
+      nv += usable[k];
+    }
   }
   s.valid_points = nv;
   const int nvc = nv;  // a local copy: stores through uint8_t* could alias nv
