@@ -768,20 +768,27 @@ class Matcher {
       if (straight && sg.last_col - sg.first_col == sg.count() - 1 &&
           !std::memchr(s_.cuts.data() + sg.first, 1, static_cast<std::size_t>(sg.count() - 1)))
         continue;  // no missing column, no jump: nothing to split at
-      // Locals for the cheap tests, which most points fail.
+      // Cheap tests first: a cut or a missing column after k, or (unless all
+      // points are on one line) the next point leaving the chord of the
+      // s_min points before it. Most points fail them: they run in a tight
+      // loop on locals.
       const Vec2* points = s_.points.data();
       const std::uint8_t* cuts = s_.cuts.data();
       const int* cols = s_.cols.data();
       const double tol2 = tol_ * tol_;
-      for (int k = sg.first + s_min - 1; k <= sg.last - s_min; ++k) {
+      auto candidate = [&](int k) {
         const bool joined = !cuts[k] && cols[k + 1] == cols[k] + 1;
-        if (straight && joined) continue;
-        // Cheap test first: does the next point continue the chord before it?
+        if (!joined) return true;
+        if (straight) return false;
         const Vec2& pk = points[k];
         const Vec2 chord = pk - points[k - s_min + 1], step = points[k + 1] - pk;
         const double c = chord.x() * step.y() - chord.y() * step.x();
-        const bool departs = c * c > tol2 * chord.squaredNorm();
-        if (!departs && joined) continue;
+        return c * c > tol2 * chord.squaredNorm();
+      };
+      const int k_last = sg.last - s_min;
+      for (int k = sg.first + s_min - 1; k <= k_last; ++k) {
+        while (k <= k_last && !candidate(k)) ++k;
+        if (k > k_last) break;
         const auto local = window(k - s_min + 1);
         if (!local) continue;
         bool hole = s_.cuts[k];
