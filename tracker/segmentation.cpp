@@ -484,7 +484,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
     r1 = run_end(s.cuts, r0, np);
     s.leaves_.clear();
     s.stack_.clear();
-    s.stack_.push_back(SplitRegion{r0, r1});
+    s.stack_.push_back(SplitRegion{r0, r1, false, {}});
     while (!s.stack_.empty()) {
       SplitRegion region = s.stack_.back();
       s.stack_.pop_back();
@@ -557,8 +557,8 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         s.stack_.push_back(right);
         s.stack_.push_back(left);
       } else {
-        s.stack_.push_back(SplitRegion{split_at, b});
-        s.stack_.push_back(SplitRegion{a, split_at});
+        s.stack_.push_back(SplitRegion{split_at, b, false, {}});
+        s.stack_.push_back(SplitRegion{a, split_at, false, {}});
       }
     }
     // Leaves share their split points; each shared point starts the next segment.
@@ -602,30 +602,35 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
     return ends ||
            (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm);
   };
-  for (std::size_t i = 0; i + 1 < s.segments.size();) {
-    Segment& a = s.segments[i];
-    const Segment& b = s.segments[i + 1];
+  // In place: segments [0, w] are final but w itself, which the ones from r
+  // on may still join.
+  std::vector<Segment>& segs = s.segments;
+  std::size_t w = 0;
+  for (std::size_t r = 1; r < segs.size();) {
+    Segment& a = segs[w];
+    const Segment& b = segs[r];
     if (mergeable(a, b, PointSums{}, 0)) {
       a.last = b.last;
       a.sums += b.sums;
       refit(s, a);
-      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      ++r;
       continue;
     }
     // A piece shorter than s_min between two parts of one line (noise near
     // the split threshold cuts a plate like this) joins them.
-    if (b.count() < s_min && i + 2 < s.segments.size() && mergeable(a, s.segments[i + 2], b.sums, b.count())) {
-      const Segment& c = s.segments[i + 2];
+    if (b.count() < s_min && r + 1 < segs.size() && mergeable(a, segs[r + 1], b.sums, b.count())) {
+      const Segment& c = segs[r + 1];
       a.last = c.last;
       a.sums += b.sums;
       a.sums += c.sums;
       refit(s, a);
-      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1,
-                       s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 3);
+      r += 2;
       continue;
     }
-    ++i;
+    if (++w != r) segs[w] = segs[r];
+    ++r;
   }
+  if (!segs.empty()) segs.resize(w + 1);
 
   // Boundary points go to the neighbouring line they fit better (split points
   // are shared and every other point is skipped with s_int = 2, so the point
