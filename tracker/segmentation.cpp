@@ -12,15 +12,15 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // p lies farther than `limit` from the line through a and b (from a if they
-// coincide); no square root.
+// coincide); no square root. In scalars: Eigen's 2-vectors need lane
+// shuffles for the cross product.
 [[gnu::always_inline]] inline bool beyond_chord(const Vec2& a, const Vec2& b, const Vec2& p, double limit) {
-  const Vec2 d = b - a;
-  const double len2 = d.squaredNorm();
-  if (len2 < 1e-24) return (p - a).squaredNorm() > limit * limit;
-  const double c = cross(d, p - a);
+  const double dy = b.x() - a.x(), dz = b.y() - a.y();
+  const double len2 = dy * dy + dz * dz;
+  const double py = p.x() - a.x(), pz = p.y() - a.y();
+  if (len2 < 1e-24) return py * py + pz * pz > limit * limit;
+  const double c = dy * pz - dz * py;
   return c * c > limit * limit * len2;
 }
 
