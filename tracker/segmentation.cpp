@@ -447,20 +447,30 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   s.ref_ = nv > 0 ? Vec2(ys[0], zs[0]) : Vec2::Zero();
   int np = 0;
   if (removed) {
-    for (int k = 0; k < nv; ++k) {
-      if (!s.keep_[k]) {
+    const std::uint8_t* keep = s.keep_.data();
+    for (int k = 0; k < nv;) {
+      if (!keep[k]) {
         s.column_state[cols[k]] = kColumnOutlier;
         s.outlier_points.emplace_back(ys[k], zs[k]);
         s.outlier_cols.push_back(cols[k]);
         ++s.outliers;
+        ++k;
         continue;
       }
-      pts[np] = Vec2(ys[k], zs[k]);
-      cols[np] = cols[k];
-      ++np;
+      // A run of kept points, copied without tests.
+      const void* hit = std::memchr(keep + k, 0, static_cast<std::size_t>(nv - k));
+      const int end = hit ? static_cast<int>(static_cast<const std::uint8_t*>(hit) - keep) : nv;
+      for (; k < end; ++k, ++np) {
+        pts[np].x() = ys[k];
+        pts[np].y() = zs[k];
+        cols[np] = cols[k];
+      }
     }
   } else {
-    for (int k = 0; k < nv; ++k) pts[k] = Vec2(ys[k], zs[k]);
+    for (int k = 0; k < nv; ++k) {
+      pts[k].x() = ys[k];
+      pts[k].y() = zs[k];
+    }
     np = nv;
   }
   s.points.resize(np);
