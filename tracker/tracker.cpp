@@ -249,12 +249,24 @@ class Matcher {
     return between_rays(x, s_.cols[lo], s_.cols[hi]);
   }
 
-  // Two runs of points (their sums) lie on one line: the shorter run's
-  // centroid lies on the longer one's line, and the lines are close in angle
-  // or (a short run's angle is mostly noise) the fit through both runs is
-  // hardly worse than either alone. O(1).
-  bool same_line(const PointSums& s1, const PointSums& s2) const {
-    const auto p = s_.fit(s1), q = s_.fit(s2);
+  // A segment's line fit, as s_.fit(sg.sums) gives it (refit keeps its
+  // line, rms and centroid so).
+  static std::optional<LineFit> fit_of(const Segment& sg) {
+    if (!sg.fitted) return std::nullopt;
+    LineFit f;
+    f.line = sg.line;
+    f.rms_mm = sg.rms_mm;
+    f.count = sg.count();
+    f.centroid = sg.centroid;
+    return f;
+  }
+
+  // Two runs of points (their sums s1, s2 and line fits p, q) lie on one
+  // line: the shorter run's centroid lies on the longer one's line, and the
+  // lines are close in angle or (a short run's angle is mostly noise) the
+  // fit through both runs is hardly worse than either alone. O(1).
+  bool same_line(const PointSums& s1, const std::optional<LineFit>& p, const PointSums& s2,
+                 const std::optional<LineFit>& q) const {
     if (!p || !q) return false;
     const bool on = s2.n >= s1.n ? q->line.distance(p->centroid) <= tol_ : p->line.distance(q->centroid) <= tol_;
     if (!on) return false;
@@ -264,25 +276,26 @@ class Matcher {
     const auto u = s_.fit(all);
     return u && u->rms_mm <= std::max({1.2 * p->rms_mm, 1.2 * q->rms_mm, 0.5 * tol_});
   }
+  bool same_line(const Segment& a, const Segment& b) const { return same_line(a.sums, fit_of(a), b.sums, fit_of(b)); }
 
   // Long segment q as a plate, extended outwards (dir -1: towards the start of
   // the profile, +1: towards its end) over the long segments that continue its
   // line (noise can cut a plate in pieces), fitted to their points.
-  Plate extended(int q, int dir) const { return extended(plate_of(seg(q)), seg(q).sums, q, dir); }
-  // The same for plate pl (points pl.first..pl.last, sums `sums`) cut from
-  // long segment q.
-  Plate extended(const Plate& pl, PointSums sums, int q, int dir) const {
+  Plate extended(int q, int dir) const { return extended(plate_of(seg(q)), seg(q).sums, fit_of(seg(q)), q, dir); }
+  // The same for plate pl (points pl.first..pl.last, sums `sums`, line fit
+  // `fit`) cut from long segment q.
+  Plate extended(const Plate& pl, PointSums sums, std::optional<LineFit> fit, int q, int dir) const {
     int first = pl.first, last = pl.last;
     for (int r = q + dir; r >= 0 && r < n_long(); r += dir) {
       const Segment& nx = seg(r);
-      if (!same_line(sums, nx.sums)) break;
+      if (!same_line(sums, fit, nx.sums, fit_of(nx))) break;
       sums += nx.sums;
+      fit = s_.fit(sums);
       first = std::min(first, nx.first), last = std::max(last, nx.last);
     }
     if (first == pl.first && last == pl.last) return pl;
-    const auto f = s_.fit(sums);
-    if (!f) return pl;
-    return Plate{first, last, f->line, f->centroid};
+    if (!fit) return pl;
+    return Plate{first, last, fit->line, fit->centroid};
   }
 
   // A long segment between two plates is their edge face only if it does not
@@ -293,7 +306,7 @@ class Matcher {
     return continues(mid, seg(q1)) || continues(mid, seg(q2));
   }
   bool continues(const Segment& mid, const Segment& pl) const {
-    return same_line(mid.sums, pl.sums) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
+    return same_line(mid, pl) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
            pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
   }
 
@@ -423,7 +436,7 @@ class Matcher {
         for (int m = q + 1; m < q2 && notch; ++m) notch = !continues_either(seg(m), q, q2);
         if (!notch) continue;
         // Two pieces of one face (noise cut it) are no corner.
-        if (same_line(seg(q).sums, seg(q2).sums)) continue;
+        if (same_line(seg(q), seg(q2))) continue;
         // Each face over the long segments beyond it that continue its line
         // (noise can cut a face in pieces; the piece at the corner alone
         // would give a wrong angle).
@@ -838,8 +851,8 @@ class Matcher {
         Plate a{sg.first, k, fa->line, fa->centroid}, b{e, sg.last, fb->line, fb->centroid};
         // Each part over the long segments beyond it on its line, as above.
         if (p_.butt.extend_split_plates) {
-          a = extended(a, head, q, -1);
-          b = extended(b, tail, q, +1);
+          a = extended(a, head, fa, q, -1);
+          b = extended(b, tail, fb, q, +1);
         }
         // Missing columns with both sides on one line are strong evidence only
         // on clean profiles: on noisy ones a dropout looks the same.
@@ -979,15 +992,16 @@ class Matcher {
       int i0 = i, j1 = j;
       auto grow = [&](int k, int dir, std::optional<Plate>& pl) {
         PointSums sums = s_.segments[k].sums;
+        auto fit = fit_of(s_.segments[k]);
         int first = pl->first, last = pl->last, end = k;
         for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
           const Segment& nx = s_.segments[m];
-          if (!nx.fitted || nx.count() < 2 || !same_line(sums, nx.sums)) break;
+          if (!nx.fitted || nx.count() < 2 || !same_line(sums, fit, nx.sums, fit_of(nx))) break;
           sums += nx.sums;
+          fit = s_.fit(sums);
           first = std::min(first, nx.first), last = std::max(last, nx.last), end = m;
         }
-        if (end != k)
-          if (const auto f = s_.fit(sums)) pl = Plate{first, last, f->line, f->centroid};
+        if (end != k && fit) pl = Plate{first, last, fit->line, fit->centroid};
         return end;
       };
       if (!i_short) i0 = grow(i, -1, pi);
