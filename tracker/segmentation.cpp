@@ -28,8 +28,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // `gap(j)` says whether invalid columns lie between them (asked only where
 // their columns are not adjacent); otherwise a jump is a step longer than
 // break_min_mm and break_ratio times the shorter neighbouring step.
-// steps2[j] holds the squared step from j to j+1. The jumps are found
-// branch-free first, so that the loop vectorises.
+// steps2[j] holds the squared step from j to j+1. Jumps (bit 0) and columns
+// that are not adjacent (bit 1) are marked branch-free first, so that the loop
+// vectorises; then the few marked 2 (not adjacent, no jump) ask gap(j).
 template <class Gap>
 void find_cuts(int n, const SegmentParams& sp, const int* cols, Gap gap, const Buffer<float>& steps2,
                Buffer<std::uint8_t>& cut) {
@@ -42,7 +43,7 @@ void find_cuts(int n, const SegmentParams& sp, const int* cols, Gap gap, const B
   std::uint8_t* c = cut.data();
   for (int j = 1; j + 2 < n; ++j) {
     const float d2 = st[j], neighbour = std::min(st[j - 1], st[j + 1]);
-    c[j] = (d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour));
+    c[j] = ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour))) | ((cols[j + 1] - cols[j] != 1) << 1);
   }
   // The ends have one neighbouring step (or none).
   for (int j : {0, n - 2}) {
@@ -50,10 +51,16 @@ void find_cuts(int n, const SegmentParams& sp, const int* cols, Gap gap, const B
     const float before = j > 0 ? st[j - 1] : inf;
     const float after = j + 2 < n ? st[j + 1] : inf;
     const float neighbour = std::min(before, after);
-    c[j] = (d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour));
+    c[j] = ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour))) | ((cols[j + 1] - cols[j] != 1) << 1);
   }
-  for (int j = 0; j + 1 < n; ++j)
-    if (cols[j + 1] != cols[j] + 1 && gap(j)) c[j] = 1;
+  const std::size_t len = static_cast<std::size_t>(n - 1);
+  for (const std::uint8_t mark : {std::uint8_t{2}, std::uint8_t{3}}) {
+    for (void* hit = std::memchr(c, mark, len); hit;) {
+      const std::size_t j = static_cast<std::size_t>(static_cast<std::uint8_t*>(hit) - c);
+      c[j] = mark == 3 || gap(static_cast<int>(j));
+      hit = j + 1 < len ? std::memchr(c + j + 1, mark, len - j - 1) : nullptr;
+    }
+  }
 }
 
 // find_cuts for the gathered points, where invalid columns lie between
