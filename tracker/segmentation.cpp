@@ -491,7 +491,10 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   const SegmentParams& sp = params.segments;
   // Without outliers the kept points are the gathered ones: their cuts stand.
   if (s.outliers > 0) {
-    for (int j = 0; j + 1 < np; ++j) s.steps_[j] = static_cast<float>((s.points[j + 1] - s.points[j]).squaredNorm());
+    for (int j = 0; j + 1 < np; ++j) {
+      const double dy = pts[j + 1].x() - pts[j].x(), dz = pts[j + 1].y() - pts[j].y();
+      s.steps_[j] = static_cast<float>(dy * dy + dz * dz);
+    }
     auto gap = [&](int j) { return s.invalid_columns_between(s.cols[j], s.cols[j + 1]) > 0; };
     find_cuts(np, sp, s.cols.data(), gap, s.steps_, s.cuts);
   }
