@@ -323,11 +323,11 @@ int Segmentation::invalid_columns_between(int a, int b) const {
 
 namespace {
 
-// Refits a segment from its sums (seg.sums must match [first, last]).
-void refit(const Segmentation& s, Segment& seg) {
+// Refits a segment from f, the fit of its sums (seg.sums must match
+// [first, last]; f empty for fewer than two points).
+void refit(const Segmentation& s, Segment& seg, const std::optional<LineFit>& f) {
   seg.first_col = s.cols[seg.first];
   seg.last_col = s.cols[seg.last];
-  const auto f = seg.count() >= 2 ? s.fit(seg.sums) : std::nullopt;
   seg.fitted = f.has_value();
   if (f) {
     seg.line = f->line;
@@ -338,6 +338,7 @@ void refit(const Segmentation& s, Segment& seg) {
     seg.centroid = s.points[seg.first];
   }
 }
+void refit(const Segmentation& s, Segment& seg) { refit(s, seg, seg.count() >= 2 ? s.fit(seg.sums) : std::nullopt); }
 
 }  // namespace
 
@@ -603,24 +604,27 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   const double cos_merge = std::cos(sp.max_merge_angle_deg * 3.14159265358979323846 / 180.0);
   // Whether a and c are one line, together with the `between_points` points
   // between them (sums `between`: a short piece, every point of which must
-  // lie within t_split of the joint line).
-  auto mergeable = [&](const Segment& a, const Segment& c, const PointSums& between, int between_points) {
+  // lie within t_split of the joint line): their joint fit if so (the merged
+  // segment's: its sums add up in the same order), else empty.
+  auto mergeable = [&](const Segment& a, const Segment& c, const PointSums& between,
+                       int between_points) -> std::optional<LineFit> {
     const double offset = std::max(sp.max_merge_offset_mm, 3.0 * std::max(a.rms_mm, c.rms_mm));
     if (!a.fitted || !c.fitted || c.first_col - a.last_col - 1 - between_points >= sp.max_merge_gap_points ||
         std::abs(a.line.n.dot(c.line.n)) <= cos_merge || a.line.distance(s.points[c.first]) >= offset ||
         c.line.distance(s.points[a.last]) >= offset)
-      return false;
+      return std::nullopt;
     PointSums all = a.sums;
     all += between;
     all += c.sums;
     const auto f = s.fit(all);
-    if (!f) return false;
+    if (!f) return std::nullopt;
     for (int k = a.last + 1; k < c.first; ++k)
-      if (f->line.distance(s.points[k]) > sp.split_threshold_mm) return false;
+      if (f->line.distance(s.points[k]) > sp.split_threshold_mm) return std::nullopt;
     bool ends = true;
     for (int k : {a.first, a.last, c.first, c.last}) ends = ends && f->line.distance(s.points[k]) <= sp.split_threshold_mm;
-    return ends ||
-           (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm);
+    if (ends || (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm))
+      return f;
+    return std::nullopt;
   };
   // In place: segments [0, w] are final but w itself, which the ones from r
   // on may still join.
@@ -629,21 +633,23 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   for (std::size_t r = 1; r < segs.size();) {
     Segment& a = segs[w];
     const Segment& b = segs[r];
-    if (mergeable(a, b, PointSums{}, 0)) {
+    if (const auto f = mergeable(a, b, PointSums{}, 0)) {
       a.last = b.last;
       a.sums += b.sums;
-      refit(s, a);
+      refit(s, a, f);
       ++r;
       continue;
     }
     // A piece shorter than s_min between two parts of one line (noise near
     // the split threshold cuts a plate like this) joins them.
-    if (b.count() < s_min && r + 1 < segs.size() && mergeable(a, segs[r + 1], b.sums, b.count())) {
+    const auto f = b.count() < s_min && r + 1 < segs.size() ? mergeable(a, segs[r + 1], b.sums, b.count())
+                                                             : std::nullopt;
+    if (f) {
       const Segment& c = segs[r + 1];
       a.last = c.last;
       a.sums += b.sums;
       a.sums += c.sums;
-      refit(s, a);
+      refit(s, a, f);
       r += 2;
       continue;
     }
