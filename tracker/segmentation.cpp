@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 
 namespace vts::tracker {
@@ -323,6 +324,29 @@ int Segmentation::invalid_columns_between(int a, int b) const {
 
 namespace {
 
+// Of the points k = from, from + step, ... before `to`, the first farthest
+// from the line through (ay, az) along (cy, cz), and its distance times the
+// chord's length |(cy, cz) x (p - a)|; -1 and 0 if all lie on the line. Two
+// maxima, of every other point, are kept: a single one is a chain of
+// dependent comparisons.
+std::pair<int, double> farthest_from_chord(const Vec2* pts, int from, int to, int step, double ay, double az,
+                                           double cy, double cz) {
+  auto dist = [&](int k) { return std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay)); };
+  double w0 = 0.0, w1 = 0.0;
+  int i0 = -1, i1 = -1;
+  int k = from;
+  for (; k + step < to; k += 2 * step) {
+    const double d0 = dist(k), d1 = dist(k + step);
+    if (d0 > w0) w0 = d0, i0 = k;
+    if (d1 > w1) w1 = d1, i1 = k + step;
+  }
+  if (k < to)
+    if (const double d0 = dist(k); d0 > w0) w0 = d0, i0 = k;
+  // The first of them on a tie (-1 only when both are -1).
+  if (w1 > w0 || (w1 == w0 && i1 < i0)) return {i1, w1};
+  return {i0, w0};
+}
+
 // Refits a segment from f, the fit of its sums (seg.sums must match
 // [first, last]; f empty for fewer than two points).
 void refit(const Segmentation& s, Segment& seg, const std::optional<LineFit>& f) {
@@ -519,14 +543,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         const double len = std::sqrt(cy * cy + cz * cz);
         double worst = 0.0;
         if (len > 1e-12) {
-          // Distance from the chord times its length: |chord x (p - a)|.
-          for (int k = a + s_int; k < b; k += s_int) {
-            const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
-            if (dist > worst) {
-              worst = dist;
-              split_at = k;
-            }
-          }
+          std::tie(split_at, worst) = farthest_from_chord(pts, a + s_int, b, s_int, ay, az, cy, cz);
           worst /= len;
         } else {
           for (int k = a + s_int; k < b; k += s_int) {
@@ -554,10 +571,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
             const auto f = s.fit(s.with_point(region.head, b));
             if (f && f->rms_mm > rough_tol_mm) {
               double far = 0.0;
-              for (int k = a + 1; k < b; ++k) {
-                const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
-                if (dist > far) far = dist, rough_at = k;
-              }
+              std::tie(rough_at, far) = farthest_from_chord(pts, a + 1, b, 1, ay, az, cy, cz);
               if (rough_at - a < 3 || b - rough_at < 3 || !(far / len > rough_tol_mm)) rough_at = -1;
               // Two lines meet there: each side alone fits a line at least
               // twice as well (a displaced cluster on one line does not).
