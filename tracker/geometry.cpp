@@ -38,10 +38,14 @@ std::optional<LineFit> fit_line(const Moments& m) {
   const double l_min = std::max(0.0, mid - root);
   if (!(l_max > 0.0)) return std::nullopt;
   // Eigenvector of l_max is the direction: take the better conditioned of the
-  // two equivalent forms (b, l - a) and (l - c, b).
-  Vec2 d1(b, l_max - a), d2(l_max - c, b);
-  Vec2 d = d1.squaredNorm() >= d2.squaredNorm() ? d1 : d2;
-  const double norm = d.norm();
+  // two equivalent forms (b, l - a) and (l - c, b). In scalars, its norm from
+  // the squared norm already compared (the fit's latency counts: the tracker
+  // fits many short lines).
+  const double d1y = b, d1z = l_max - a, d2y = l_max - c, d2z = b;
+  const double n1 = d1y * d1y + d1z * d1z, n2 = d2y * d2y + d2z * d2z;
+  const bool first = n1 >= n2;
+  Vec2 d(first ? d1y : d2y, first ? d1z : d2z);
+  const double norm = std::sqrt(first ? n1 : n2);
   if (!(norm > 0.0)) {
     // Isotropic scatter cannot happen for l_max > 0 unless b == 0 and a == c;
     // then any direction fits equally badly: pick y.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 
 namespace vts::tracker {
@@ -12,35 +13,54 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 // p lies farther than `limit` from the line through a and b (from a if they
-// coincide); no square root.
+// coincide); no square root. In scalars: Eigen's 2-vectors need lane
+// shuffles for the cross product.
 [[gnu::always_inline]] inline bool beyond_chord(const Vec2& a, const Vec2& b, const Vec2& p, double limit) {
-  const Vec2 d = b - a;
-  const double len2 = d.squaredNorm();
-  if (len2 < 1e-24) return (p - a).squaredNorm() > limit * limit;
-  const double c = cross(d, p - a);
+  const double dy = b.x() - a.x(), dz = b.y() - a.y();
+  const double len2 = dy * dy + dz * dz;
+  const double py = p.x() - a.x(), pz = p.y() - a.y();
+  if (len2 < 1e-24) return py * py + pz * pz > limit * limit;
+  const double c = dy * pz - dz * py;
   return c * c > limit * limit * len2;
 }
 
 // cut[j] = 1 where the profile is discontinuous between points j and j+1:
-// `gap(j)` says whether invalid columns lie between them; otherwise a jump is
-// a step longer than break_min_mm and break_ratio times the shorter
-// neighbouring step. steps2[j] holds the squared step from j to j+1.
+// `gap(j)` says whether invalid columns lie between them (asked only where
+// their columns are not adjacent); otherwise a jump is a step longer than
+// break_min_mm and break_ratio times the shorter neighbouring step.
+// steps2[j] holds the squared step from j to j+1. Jumps (bit 0) and columns
+// that are not adjacent (bit 1) are marked branch-free first, so that the loop
+// vectorises; then the few marked 2 (not adjacent, no jump) ask gap(j).
 template <class Gap>
-void find_cuts(int n, const SegmentParams& sp, Gap gap, const Buffer<float>& steps2, Buffer<std::uint8_t>& cut) {
+void find_cuts(int n, const SegmentParams& sp, const int* cols, Gap gap, const Buffer<float>& steps2,
+               Buffer<std::uint8_t>& cut) {
   cut.resize(std::max(0, n - 1));
   if (n < 2) return;
   const float min2 = static_cast<float>(sp.break_min_mm * sp.break_min_mm);
   const float ratio2 = static_cast<float>(sp.break_ratio * sp.break_ratio);
   const float inf = std::numeric_limits<float>::infinity();
-  for (int j = 0; j + 1 < n; ++j) {
-    const float d2 = steps2[j];
-    const float before = j > 0 ? steps2[j - 1] : inf;
-    const float after = j + 2 < n ? steps2[j + 1] : inf;
+  const float* st = steps2.data();
+  std::uint8_t* c = cut.data();
+  for (int j = 1; j + 2 < n; ++j) {
+    const float d2 = st[j], neighbour = std::min(st[j - 1], st[j + 1]);
+    c[j] = ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour))) | ((cols[j + 1] - cols[j] != 1) << 1);
+  }
+  // The ends have one neighbouring step (or none).
+  for (int j : {0, n - 2}) {
+    const float d2 = st[j];
+    const float before = j > 0 ? st[j - 1] : inf;
+    const float after = j + 2 < n ? st[j + 1] : inf;
     const float neighbour = std::min(before, after);
-    cut[j] = gap(j) | ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour)));
+    c[j] = ((d2 > min2) & ((neighbour == inf) | (d2 > ratio2 * neighbour))) | ((cols[j + 1] - cols[j] != 1) << 1);
+  }
+  const std::size_t len = static_cast<std::size_t>(n - 1);
+  for (const std::uint8_t mark : {std::uint8_t{2}, std::uint8_t{3}}) {
+    for (void* hit = std::memchr(c, mark, len); hit;) {
+      const std::size_t j = static_cast<std::size_t>(static_cast<std::uint8_t*>(hit) - c);
+      c[j] = mark == 3 || gap(static_cast<int>(j));
+      hit = j + 1 < len ? std::memchr(c + j + 1, mark, len - j - 1) : nullptr;
+    }
   }
 }
 
@@ -107,14 +127,16 @@ int run_end_cluster(const float* ys, const float* zs, const int* cols, int n, in
     const int c0 = dir > 0 ? r0 : r1;          // cluster's point at the cut
     const int e = c0 + dir * l;                // first point after the cluster
     const Vec2 a = raw(o), b = raw(e);
+    // The cluster leaving the line is tested first: most run ends are cut by
+    // invalid columns on one line, and fail here.
+    bool off = false;
+    for (int k = c0; k != e && !off; k += dir) off = beyond_chord(a, b, raw(k), limit);
+    if (!off) continue;
     bool supported = true;
     for (int k = 1; k <= support && supported; ++k)
       supported = !beyond_chord(a, b, raw(o - dir * k), op.support_tol_mm) &&
                   !beyond_chord(a, b, raw(e + dir * k), op.support_tol_mm);
     if (!supported) continue;
-    bool off = false;
-    for (int k = c0; k != e && !off; k += dir) off = beyond_chord(a, b, raw(k), limit);
-    if (!off) continue;
     // It leaves the line and comes back: the step back onto the line is at
     // least half the jump (a wall seen in a gap joins its plate with a short
     // step and leaves the other plate with a long one).
@@ -302,11 +324,34 @@ int Segmentation::invalid_columns_between(int a, int b) const {
 
 namespace {
 
-// Refits a segment from its sums (seg.sums must match [first, last]).
-void refit(const Segmentation& s, Segment& seg) {
+// Of the points k = from, from + step, ... before `to`, the first farthest
+// from the line through (ay, az) along (cy, cz), and its distance times the
+// chord's length |(cy, cz) x (p - a)|; -1 and 0 if all lie on the line. Two
+// maxima, of every other point, are kept: a single one is a chain of
+// dependent comparisons.
+std::pair<int, double> farthest_from_chord(const Vec2* pts, int from, int to, int step, double ay, double az,
+                                           double cy, double cz) {
+  auto dist = [&](int k) { return std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay)); };
+  double w0 = 0.0, w1 = 0.0;
+  int i0 = -1, i1 = -1;
+  int k = from;
+  for (; k + step < to; k += 2 * step) {
+    const double d0 = dist(k), d1 = dist(k + step);
+    if (d0 > w0) w0 = d0, i0 = k;
+    if (d1 > w1) w1 = d1, i1 = k + step;
+  }
+  if (k < to)
+    if (const double d0 = dist(k); d0 > w0) w0 = d0, i0 = k;
+  // The first of them on a tie (-1 only when both are -1).
+  if (w1 > w0 || (w1 == w0 && i1 < i0)) return {i1, w1};
+  return {i0, w0};
+}
+
+// Refits a segment from f, the fit of its sums (seg.sums must match
+// [first, last]; f empty for fewer than two points).
+void refit(const Segmentation& s, Segment& seg, const std::optional<LineFit>& f) {
   seg.first_col = s.cols[seg.first];
   seg.last_col = s.cols[seg.last];
-  const auto f = seg.count() >= 2 ? s.fit(seg.sums) : std::nullopt;
   seg.fitted = f.has_value();
   if (f) {
     seg.line = f->line;
@@ -317,6 +362,7 @@ void refit(const Segmentation& s, Segment& seg) {
     seg.centroid = s.points[seg.first];
   }
 }
+void refit(const Segmentation& s, Segment& seg) { refit(s, seg, seg.count() >= 2 ? s.fit(seg.sums) : std::nullopt); }
 
 }  // namespace
 
@@ -374,11 +420,37 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   if (span > 0)  // memcpy's pointers must not be null, even for 0 bytes
     std::memcpy(s.column_state.data() + lo, usable, static_cast<std::size_t>(span));  // kColumnKept == 1
   int nv = 0;
-  for (int k = 0; k < span; ++k) {
-    ys[nv] = profile.y_mm[lo + k];
-    zs[nv] = profile.z_mm[lo + k];
-    cols[nv] = lo + k;
-    nv += usable[k];
+  {
+    // Blocks of 8 usable columns (dropouts are rare) are copied whole, and
+    // blocks of 8 unusable ones (outside the view) skipped.
+    constexpr std::uint64_t kAllUsable = 0x0101010101010101ull;
+    const float* py = profile.y_mm.data();
+    const float* pz = profile.z_mm.data();
+    int k = 0;
+    for (; k + 8 <= span; k += 8) {
+      std::uint64_t block;
+      std::memcpy(&block, usable + k, sizeof block);
+      if (block == kAllUsable) {
+        std::memcpy(ys + nv, py + lo + k, 8 * sizeof(float));
+        std::memcpy(zs + nv, pz + lo + k, 8 * sizeof(float));
+        for (int i = 0; i < 8; ++i) cols[nv + i] = lo + k + i;
+        nv += 8;
+        continue;
+      }
+      if (block == 0) continue;
+      for (int i = k; i < k + 8; ++i) {
+        ys[nv] = py[lo + i];
+        zs[nv] = pz[lo + i];
+        cols[nv] = lo + i;
+        nv += usable[i];
+      }
+    }
+    for (; k < span; ++k) {
+      ys[nv] = py[lo + k];
+      zs[nv] = pz[lo + k];
+      cols[nv] = lo + k;
+      nv += usable[k];
+    }
   }
   s.valid_points = nv;
   const int nvc = nv;  // a local copy: stores through uint8_t* could alias nv
@@ -407,20 +479,30 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   s.ref_ = nv > 0 ? Vec2(ys[0], zs[0]) : Vec2::Zero();
   int np = 0;
   if (removed) {
-    for (int k = 0; k < nv; ++k) {
-      if (!s.keep_[k]) {
+    const std::uint8_t* keep = s.keep_.data();
+    for (int k = 0; k < nv;) {
+      if (!keep[k]) {
         s.column_state[cols[k]] = kColumnOutlier;
         s.outlier_points.emplace_back(ys[k], zs[k]);
         s.outlier_cols.push_back(cols[k]);
         ++s.outliers;
+        ++k;
         continue;
       }
-      pts[np] = Vec2(ys[k], zs[k]);
-      cols[np] = cols[k];
-      ++np;
+      // A run of kept points, copied without tests.
+      const void* hit = std::memchr(keep + k, 0, static_cast<std::size_t>(nv - k));
+      const int end = hit ? static_cast<int>(static_cast<const std::uint8_t*>(hit) - keep) : nv;
+      for (; k < end; ++k, ++np) {
+        pts[np].x() = ys[k];
+        pts[np].y() = zs[k];
+        cols[np] = cols[k];
+      }
     }
   } else {
-    for (int k = 0; k < nv; ++k) pts[k] = Vec2(ys[k], zs[k]);
+    for (int k = 0; k < nv; ++k) {
+      pts[k].x() = ys[k];
+      pts[k].y() = zs[k];
+    }
     np = nv;
   }
   s.points.resize(np);
@@ -434,9 +516,12 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   const SegmentParams& sp = params.segments;
   // Without outliers the kept points are the gathered ones: their cuts stand.
   if (s.outliers > 0) {
-    for (int j = 0; j + 1 < np; ++j) s.steps_[j] = static_cast<float>((s.points[j + 1] - s.points[j]).squaredNorm());
-    find_cuts(np, sp, [&](int j) { return s.invalid_columns_between(s.cols[j], s.cols[j + 1]) > 0; }, s.steps_,
-              s.cuts);
+    for (int j = 0; j + 1 < np; ++j) {
+      const double dy = pts[j + 1].x() - pts[j].x(), dz = pts[j + 1].y() - pts[j].y();
+      s.steps_[j] = static_cast<float>(dy * dy + dz * dz);
+    }
+    auto gap = [&](int j) { return s.invalid_columns_between(s.cols[j], s.cols[j + 1]) > 0; };
+    find_cuts(np, sp, s.cols.data(), gap, s.steps_, s.cuts);
   }
   const int s_min = std::max(2, sp.min_segment_points);
   const int s_int = std::max(1, sp.split_interval);
@@ -444,10 +529,12 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
     r1 = run_end(s.cuts, r0, np);
     s.leaves_.clear();
     s.stack_.clear();
-    s.stack_.emplace_back(r0, r1);
+    s.stack_.push_back(SplitRegion{r0, r1, false, {}});
     while (!s.stack_.empty()) {
-      const auto [a, b] = s.stack_.back();
+      SplitRegion region = s.stack_.back();
       s.stack_.pop_back();
+      const int a = region.a, b = region.b;
+      SplitRegion left, right;
       int split_at = -1;
       if (b - a + 1 >= s_min) {
         const Vec2* pts = s.points.data();
@@ -456,14 +543,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         const double len = std::sqrt(cy * cy + cz * cz);
         double worst = 0.0;
         if (len > 1e-12) {
-          // Distance from the chord times its length: |chord x (p - a)|.
-          for (int k = a + s_int; k < b; k += s_int) {
-            const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
-            if (dist > worst) {
-              worst = dist;
-              split_at = k;
-            }
-          }
+          std::tie(split_at, worst) = farthest_from_chord(pts, a + s_int, b, s_int, ay, az, cy, cz);
           worst /= len;
         } else {
           for (int k = a + s_int; k < b; k += s_int) {
@@ -484,19 +564,21 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
           // left to the later steps), when each side fits a line at least
           // twice as well as the whole.
           int rough_at = -1;
+          // The sums are kept for the leaf or the two parts (each part's
+          // rough test, and its segment, would sum it again).
           if (rough_tol_mm > 0.0 && len > 1e-12 && worst > rough_tol_mm) {
-            const auto f = s.fit(a, b);
+            if (!region.summed) region.head = s.sums(a, b - 1), region.summed = true;
+            const auto f = s.fit(s.with_point(region.head, b));
             if (f && f->rms_mm > rough_tol_mm) {
               double far = 0.0;
-              for (int k = a + 1; k < b; ++k) {
-                const double dist = std::abs(cy * (pts[k].y() - az) - cz * (pts[k].x() - ay));
-                if (dist > far) far = dist, rough_at = k;
-              }
+              std::tie(rough_at, far) = farthest_from_chord(pts, a + 1, b, 1, ay, az, cy, cz);
               if (rough_at - a < 3 || b - rough_at < 3 || !(far / len > rough_tol_mm)) rough_at = -1;
               // Two lines meet there: each side alone fits a line at least
               // twice as well (a displaced cluster on one line does not).
               if (rough_at >= 0) {
-                const auto l = s.fit(a, rough_at), r = s.fit(rough_at, b);
+                left = SplitRegion{a, rough_at, true, s.sums(a, rough_at - 1)};
+                right = SplitRegion{rough_at, b, true, s.sums(rough_at, b - 1)};
+                const auto l = s.fit(s.with_point(left.head, rough_at)), r = s.fit(s.with_point(right.head, b));
                 if (!l || !r || l->rms_mm > 0.5 * f->rms_mm || r->rms_mm > 0.5 * f->rms_mm) rough_at = -1;
               }
             }
@@ -505,19 +587,25 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         }
       }
       if (split_at < 0) {
-        s.leaves_.push_back(a);
+        s.leaves_.push_back(region);
+      } else if (left.summed) {
+        s.stack_.push_back(right);
+        s.stack_.push_back(left);
       } else {
-        s.stack_.emplace_back(split_at, b);
-        s.stack_.emplace_back(a, split_at);
+        s.stack_.push_back(SplitRegion{split_at, b, false, {}});
+        s.stack_.push_back(SplitRegion{a, split_at, false, {}});
       }
     }
     // Leaves share their split points; each shared point starts the next segment.
     for (std::size_t k = 0; k < s.leaves_.size(); ++k) {
+      const SplitRegion& leaf = s.leaves_[k];
       Segment seg;
-      seg.first = s.leaves_[k];
-      seg.last = k + 1 < s.leaves_.size() ? s.leaves_[k + 1] - 1 : r1;
+      seg.first = leaf.a;
+      seg.last = k + 1 < s.leaves_.size() ? s.leaves_[k + 1].a - 1 : r1;
       if (seg.last < seg.first) continue;
-      seg.sums = s.sums(seg.first, seg.last);
+      if (leaf.summed && seg.last == leaf.b - 1) seg.sums = leaf.head;
+      else if (leaf.summed && seg.last == leaf.b) seg.sums = s.with_point(leaf.head, leaf.b);
+      else seg.sums = s.sums(seg.first, seg.last);
       refit(s, seg);
       s.segments.push_back(seg);
     }
@@ -530,49 +618,59 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   const double cos_merge = std::cos(sp.max_merge_angle_deg * 3.14159265358979323846 / 180.0);
   // Whether a and c are one line, together with the `between_points` points
   // between them (sums `between`: a short piece, every point of which must
-  // lie within t_split of the joint line).
-  auto mergeable = [&](const Segment& a, const Segment& c, const PointSums& between, int between_points) {
+  // lie within t_split of the joint line): their joint fit if so (the merged
+  // segment's: its sums add up in the same order), else empty.
+  auto mergeable = [&](const Segment& a, const Segment& c, const PointSums& between,
+                       int between_points) -> std::optional<LineFit> {
     const double offset = std::max(sp.max_merge_offset_mm, 3.0 * std::max(a.rms_mm, c.rms_mm));
     if (!a.fitted || !c.fitted || c.first_col - a.last_col - 1 - between_points >= sp.max_merge_gap_points ||
         std::abs(a.line.n.dot(c.line.n)) <= cos_merge || a.line.distance(s.points[c.first]) >= offset ||
         c.line.distance(s.points[a.last]) >= offset)
-      return false;
+      return std::nullopt;
     PointSums all = a.sums;
     all += between;
     all += c.sums;
     const auto f = s.fit(all);
-    if (!f) return false;
+    if (!f) return std::nullopt;
     for (int k = a.last + 1; k < c.first; ++k)
-      if (f->line.distance(s.points[k]) > sp.split_threshold_mm) return false;
+      if (f->line.distance(s.points[k]) > sp.split_threshold_mm) return std::nullopt;
     bool ends = true;
     for (int k : {a.first, a.last, c.first, c.last}) ends = ends && f->line.distance(s.points[k]) <= sp.split_threshold_mm;
-    return ends ||
-           (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm);
+    if (ends || (f->rms_mm <= 1.5 * std::max(a.rms_mm, c.rms_mm) && f->rms_mm <= 0.5 * sp.split_threshold_mm))
+      return f;
+    return std::nullopt;
   };
-  for (std::size_t i = 0; i + 1 < s.segments.size();) {
-    Segment& a = s.segments[i];
-    const Segment& b = s.segments[i + 1];
-    if (mergeable(a, b, PointSums{}, 0)) {
+  // In place: segments [0, w] are final but w itself, which the ones from r
+  // on may still join.
+  std::vector<Segment>& segs = s.segments;
+  std::size_t w = 0;
+  for (std::size_t r = 1; r < segs.size();) {
+    Segment& a = segs[w];
+    const Segment& b = segs[r];
+    if (const auto f = mergeable(a, b, PointSums{}, 0)) {
       a.last = b.last;
       a.sums += b.sums;
-      refit(s, a);
-      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      refit(s, a, f);
+      ++r;
       continue;
     }
     // A piece shorter than s_min between two parts of one line (noise near
     // the split threshold cuts a plate like this) joins them.
-    if (b.count() < s_min && i + 2 < s.segments.size() && mergeable(a, s.segments[i + 2], b.sums, b.count())) {
-      const Segment& c = s.segments[i + 2];
+    const auto f = b.count() < s_min && r + 1 < segs.size() ? mergeable(a, segs[r + 1], b.sums, b.count())
+                                                             : std::nullopt;
+    if (f) {
+      const Segment& c = segs[r + 1];
       a.last = c.last;
       a.sums += b.sums;
       a.sums += c.sums;
-      refit(s, a);
-      s.segments.erase(s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 1,
-                       s.segments.begin() + static_cast<std::ptrdiff_t>(i) + 3);
+      refit(s, a, f);
+      r += 2;
       continue;
     }
-    ++i;
+    if (++w != r) segs[w] = segs[r];
+    ++r;
   }
+  if (!segs.empty()) segs.resize(w + 1);
 
   // Boundary points go to the neighbouring line they fit better (split points
   // are shared and every other point is skipped with s_int = 2, so the point

@@ -69,6 +69,15 @@ struct Segment {
   int count() const { return last - first + 1; }
 };
 
+// A region of step 2's recursive split, points [a, b], and once known the
+// sums of its points but the last (a leaf's segment ends where the next
+// region starts, at b, unless it ends the run).
+struct SplitRegion {
+  int a = 0, b = 0;
+  bool summed = false;
+  PointSums head;
+};
+
 // Column states in Segmentation::column_state.
 enum : std::uint8_t { kColumnInvalid = 0, kColumnKept = 1, kColumnOutlier = 2 };
 
@@ -105,6 +114,12 @@ struct Segmentation {
   Moments moments(int first, int last) const { return moments(sums(first, last)); }
   std::optional<LineFit> fit(const PointSums& sums) const;
   std::optional<LineFit> fit(int first, int last) const { return fit(sums(first, last)); }
+  // The sums of [first, k - 1] with point k added: sums(first, k), the same
+  // additions in the same order.
+  PointSums with_point(PointSums sums, int k) const {
+    sums.add(points[k] - ref_);
+    return sums;
+  }
   // Number of invalid columns strictly between columns a < b.
   int invalid_columns_between(int a, int b) const;
 
@@ -117,8 +132,7 @@ struct Segmentation {
   int roi_lo_ = 0, roi_hi_ = -1;
   Buffer<std::uint8_t> keep_, spike_, usable_;
   Buffer<float> ys_, zs_, steps_;
-  std::vector<std::pair<int, int>> stack_;
-  std::vector<int> leaves_;
+  std::vector<SplitRegion> stack_, leaves_;
 };
 
 // Runs steps 1 to 4 on one profile. `out` is overwritten; its buffers are

@@ -249,12 +249,24 @@ class Matcher {
     return between_rays(x, s_.cols[lo], s_.cols[hi]);
   }
 
-  // Two runs of points (their sums) lie on one line: the shorter run's
-  // centroid lies on the longer one's line, and the lines are close in angle
-  // or (a short run's angle is mostly noise) the fit through both runs is
-  // hardly worse than either alone. O(1).
-  bool same_line(const PointSums& s1, const PointSums& s2) const {
-    const auto p = s_.fit(s1), q = s_.fit(s2);
+  // A segment's line fit, as s_.fit(sg.sums) gives it (refit keeps its
+  // line, rms and centroid so).
+  static std::optional<LineFit> fit_of(const Segment& sg) {
+    if (!sg.fitted) return std::nullopt;
+    LineFit f;
+    f.line = sg.line;
+    f.rms_mm = sg.rms_mm;
+    f.count = sg.count();
+    f.centroid = sg.centroid;
+    return f;
+  }
+
+  // Two runs of points (their sums s1, s2 and line fits p, q) lie on one
+  // line: the shorter run's centroid lies on the longer one's line, and the
+  // lines are close in angle or (a short run's angle is mostly noise) the
+  // fit through both runs is hardly worse than either alone. O(1).
+  bool same_line(const PointSums& s1, const std::optional<LineFit>& p, const PointSums& s2,
+                 const std::optional<LineFit>& q) const {
     if (!p || !q) return false;
     const bool on = s2.n >= s1.n ? q->line.distance(p->centroid) <= tol_ : p->line.distance(q->centroid) <= tol_;
     if (!on) return false;
@@ -264,25 +276,26 @@ class Matcher {
     const auto u = s_.fit(all);
     return u && u->rms_mm <= std::max({1.2 * p->rms_mm, 1.2 * q->rms_mm, 0.5 * tol_});
   }
+  bool same_line(const Segment& a, const Segment& b) const { return same_line(a.sums, fit_of(a), b.sums, fit_of(b)); }
 
   // Long segment q as a plate, extended outwards (dir -1: towards the start of
   // the profile, +1: towards its end) over the long segments that continue its
   // line (noise can cut a plate in pieces), fitted to their points.
-  Plate extended(int q, int dir) const { return extended(plate_of(seg(q)), seg(q).sums, q, dir); }
-  // The same for plate pl (points pl.first..pl.last, sums `sums`) cut from
-  // long segment q.
-  Plate extended(const Plate& pl, PointSums sums, int q, int dir) const {
+  Plate extended(int q, int dir) const { return extended(plate_of(seg(q)), seg(q).sums, fit_of(seg(q)), q, dir); }
+  // The same for plate pl (points pl.first..pl.last, sums `sums`, line fit
+  // `fit`) cut from long segment q.
+  Plate extended(const Plate& pl, PointSums sums, std::optional<LineFit> fit, int q, int dir) const {
     int first = pl.first, last = pl.last;
     for (int r = q + dir; r >= 0 && r < n_long(); r += dir) {
       const Segment& nx = seg(r);
-      if (!same_line(sums, nx.sums)) break;
+      if (!same_line(sums, fit, nx.sums, fit_of(nx))) break;
       sums += nx.sums;
+      fit = s_.fit(sums);
       first = std::min(first, nx.first), last = std::max(last, nx.last);
     }
     if (first == pl.first && last == pl.last) return pl;
-    const auto f = s_.fit(sums);
-    if (!f) return pl;
-    return Plate{first, last, f->line, f->centroid};
+    if (!fit) return pl;
+    return Plate{first, last, fit->line, fit->centroid};
   }
 
   // A long segment between two plates is their edge face only if it does not
@@ -293,7 +306,7 @@ class Matcher {
     return continues(mid, seg(q1)) || continues(mid, seg(q2));
   }
   bool continues(const Segment& mid, const Segment& pl) const {
-    return same_line(mid.sums, pl.sums) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
+    return same_line(mid, pl) && pl.line.distance(mid.line.project(pt(mid.first))) <= tol_ &&
            pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
   }
 
@@ -423,7 +436,7 @@ class Matcher {
         for (int m = q + 1; m < q2 && notch; ++m) notch = !continues_either(seg(m), q, q2);
         if (!notch) continue;
         // Two pieces of one face (noise cut it) are no corner.
-        if (same_line(seg(q).sums, seg(q2).sums)) continue;
+        if (same_line(seg(q), seg(q2))) continue;
         // Each face over the long segments beyond it that continue its line
         // (noise can cut a face in pieces; the piece at the corner alone
         // would give a wrong angle).
@@ -701,12 +714,15 @@ class Matcher {
   // seen between them are strong evidence only on clean profiles: on noisy
   // ones a dropout (or points removed as outliers) looks the same, unless
   // the rays found nothing over a run of min_hole_columns (dropouts on a
-  // plate are isolated columns).
-  int evidence(const Plate& a, const Plate& b, int a_end, int b_end, bool missing) const {
+  // plate are isolated columns). a_fit, b_fit: the plates' fits to their
+  // points [first, last], if the caller has them.
+  int evidence(const Plate& a, const Plate& b, int a_end, int b_end, bool missing, const LineFit* a_fit = nullptr,
+               const LineFit* b_fit = nullptr) const {
     if (!missing) return 0;
     if (b_end != a_end + 1 || b.line.distance(pt(a_end)) > tol_ || a.line.distance(pt(b_end)) > tol_) return 1;
     if (invalid_run(s_.cols[a_end], s_.cols[b_end]) >= std::max(1, p_.butt.min_hole_columns)) return 1;
-    const auto fa = s_.fit(a.first, a.last), fb = s_.fit(b.first, b.last);
+    const auto fa = a_fit ? std::optional<LineFit>(*a_fit) : s_.fit(a.first, a.last);
+    const auto fb = b_fit ? std::optional<LineFit>(*b_fit) : s_.fit(b.first, b.last);
     const bool noisy = fa && fb && std::max(fa->rms_mm, fb->rms_mm) > 0.25 * tol_;
     return noisy ? 0 : 1;
   }
@@ -743,22 +759,50 @@ class Matcher {
     // next point leaves the line of the s_min points before it, and a few
     // points later a straight run of s_min points starts, parallel to it,
     // with every point between off both lines (the gap's walls).
+    // Fits of the s_min points from a point on, by that point modulo 32: the
+    // test below fits the window before each candidate point and up to
+    // kMaxWallPoints + 1 after it, and neighbouring candidates share them.
+    std::array<int, 32> window_first;
+    window_first.fill(-1);
+    std::array<std::optional<LineFit>, 32> window_fit;
+    auto window = [&](int first) {
+      const std::size_t w = static_cast<std::size_t>(first) % window_first.size();
+      if (window_first[w] != first) window_first[w] = first, window_fit[w] = s_.fit(first, first + s_min - 1);
+      return window_fit[w];
+    };
     for (int q = 0; q < n_long(); ++q) {
       const Segment& sg = seg(q);
+      // Sums of points [sg.first, head_last], grown with k: the first part's
+      // sums at a hole, added in the order Segmentation::sums adds them.
+      PointSums head;
+      int head_last = sg.first - 1;
       // All points on one line: only cuts and missing columns can be holes.
       const bool straight = sg.rms_mm <= 0.25 * tol_;
       if (straight && sg.last_col - sg.first_col == sg.count() - 1 &&
           !std::memchr(s_.cuts.data() + sg.first, 1, static_cast<std::size_t>(sg.count() - 1)))
         continue;  // no missing column, no jump: nothing to split at
-      for (int k = sg.first + s_min - 1; k <= sg.last - s_min; ++k) {
-        if (straight && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
-        // Cheap test first: does the next point continue the chord before it?
-        const Vec2& pk = pt(k);
-        const Vec2 chord = pk - pt(k - s_min + 1), step = pt(k + 1) - pk;
+      // Cheap tests first: a cut or a missing column after k, or (unless all
+      // points are on one line) the next point leaving the chord of the
+      // s_min points before it. Most points fail them: they run in a tight
+      // loop on locals.
+      const Vec2* points = s_.points.data();
+      const std::uint8_t* cuts = s_.cuts.data();
+      const int* cols = s_.cols.data();
+      const double tol2 = tol_ * tol_;
+      auto candidate = [&](int k) {
+        const bool joined = !cuts[k] && cols[k + 1] == cols[k] + 1;
+        if (!joined) return true;
+        if (straight) return false;
+        const Vec2& pk = points[k];
+        const Vec2 chord = pk - points[k - s_min + 1], step = points[k + 1] - pk;
         const double c = chord.x() * step.y() - chord.y() * step.x();
-        const bool departs = c * c > tol_ * tol_ * chord.squaredNorm();
-        if (!departs && !s_.cuts[k] && s_.cols[k + 1] == s_.cols[k] + 1) continue;
-        const auto local = s_.fit(k - s_min + 1, k);
+        return c * c > tol2 * chord.squaredNorm();
+      };
+      const int k_last = sg.last - s_min;
+      for (int k = sg.first + s_min - 1; k <= k_last; ++k) {
+        while (k <= k_last && !candidate(k)) ++k;
+        if (k > k_last) break;
+        const auto local = window(k - s_min + 1);
         if (!local) continue;
         bool hole = s_.cuts[k];
         // A jump only over points removed as outliers, with the next point
@@ -776,11 +820,19 @@ class Matcher {
         int e = k + 1;  // first point of the second plate
         if (!hole) {
           if (local->line.distance(pt(k + 1)) <= tol_) continue;
-          for (e = k + 1; e <= std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1); ++e) {
-            const auto next = s_.fit(e, e + s_min - 1);
-            if (!next || next->rms_mm > 0.5 * tol_ ||
-                acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg ||
-                next->line.distance(pt(k)) <= tol_)
+          // Walls end at the first point back on the local line: no later e
+          // has walls before it (on noisy plates that is a point or two on).
+          int e_max = std::min(k + 1 + kMaxWallPoints, sg.last - s_min + 1);
+          for (int i = k + 2; i < e_max; ++i) {
+            if (local->line.distance(pt(i)) <= tol_) {
+              e_max = i;
+              break;
+            }
+          }
+          for (e = k + 1; e <= e_max; ++e) {
+            const auto next = window(e);
+            if (!next || next->rms_mm > 0.5 * tol_ || next->line.distance(pt(k)) <= tol_ ||
+                acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg)
               continue;
             bool walls = true;
             for (int i = k + 1; i < e && walls; ++i)
@@ -792,16 +844,23 @@ class Matcher {
           }
         }
         if (!hole) continue;
-        auto a = plate_of(sg.first, k), b = plate_of(e, sg.last);
+        while (head_last < k) head.add(pt(++head_last) - s_.ref_);
+        const PointSums tail = s_.sums(e, sg.last);
+        const auto fa = s_.fit(head), fb = s_.fit(tail);
+        if (!fa || !fb) continue;
+        Plate a{sg.first, k, fa->line, fa->centroid}, b{e, sg.last, fb->line, fb->centroid};
         // Each part over the long segments beyond it on its line, as above.
-        if (a && b && p_.butt.extend_split_plates) {
-          a = extended(*a, s_.sums(sg.first, k), q, -1);
-          b = extended(*b, s_.sums(e, sg.last), q, +1);
+        if (p_.butt.extend_split_plates) {
+          a = extended(a, head, fa, q, -1);
+          b = extended(b, tail, fb, q, +1);
         }
         // Missing columns with both sides on one line are strong evidence only
         // on clean profiles: on noisy ones a dropout looks the same.
         const bool missing = s_.cuts[k] || s_.cols[k + 1] > s_.cols[k] + 1;
-        if (a && b) butt_pair(*a, *b, k + 1, e - 1, evidence(*a, *b, k, e, missing));
+        // evidence() fits a part again only if it was extended.
+        const bool a_own = a.first == sg.first && a.last == k, b_own = b.first == e && b.last == sg.last;
+        butt_pair(a, b, k + 1, e - 1,
+                  evidence(a, b, k, e, missing, a_own ? &*fa : nullptr, b_own ? &*fb : nullptr));
       }
     }
   }
@@ -933,15 +992,16 @@ class Matcher {
       int i0 = i, j1 = j;
       auto grow = [&](int k, int dir, std::optional<Plate>& pl) {
         PointSums sums = s_.segments[k].sums;
+        auto fit = fit_of(s_.segments[k]);
         int first = pl->first, last = pl->last, end = k;
         for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
           const Segment& nx = s_.segments[m];
-          if (!nx.fitted || nx.count() < 2 || !same_line(sums, nx.sums)) break;
+          if (!nx.fitted || nx.count() < 2 || !same_line(sums, fit, nx.sums, fit_of(nx))) break;
           sums += nx.sums;
+          fit = s_.fit(sums);
           first = std::min(first, nx.first), last = std::max(last, nx.last), end = m;
         }
-        if (end != k)
-          if (const auto f = s_.fit(sums)) pl = Plate{first, last, f->line, f->centroid};
+        if (end != k && fit) pl = Plate{first, last, fit->line, fit->centroid};
         return end;
       };
       if (!i_short) i0 = grow(i, -1, pi);
