@@ -4,15 +4,16 @@
 // llvmpipe, headless). The mesh's flat regions are first re-triangulated
 // with the few triangles their outlines need (sensor/planar_merge.h: a plate
 // meshed into half a million triangles is 12 again; curved surfaces stay as
-// they are). For each profile, a bounding-volume hierarchy over the
-// mesh (sensor/mesh_bvh.h) finds the triangles its laser plane cuts; each cut
-// is a segment in the plane (collinear runs joined), sent as one triangle in
-// its profile's row, already projected (column coordinate y/z, reversed depth
-// near/z) and cut to the row's columns. One draw covers up to 256
-// profiles, one row each; the depth test keeps the nearest segment per column
-// and the target holds its triangle's number. The range along the column's
-// ray is then the exact ray/plane intersection with that triangle, in double,
-// so it agrees with the ray-cast reference to well under a micrometre;
+// they are). For each profile, a bounding-volume hierarchy over the mesh
+// (sensor/mesh_bvh.h) finds the triangles its laser plane cuts between the
+// fan's sides; each cut is a segment in the plane (collinear runs joined),
+// sent as one triangle in its profile's row, already projected (column
+// coordinate y/z, reversed depth near/z) and cut to the row's columns. One
+// draw covers up to 256 profiles, one row each; the depth test keeps the
+// nearest segment per column and the target holds its triangle's number.
+// The range along the column's ray is then the exact ray/plane intersection
+// with that triangle, in double, so it agrees with the ray-cast reference to
+// well under a micrometre;
 // hit/miss can differ only where a ray passes within about 1/256 pixel of a
 // mesh boundary edge. For a closed mesh with consistent winding, faces turned
 // away from the laser are not drawn (they are always behind a front face).
