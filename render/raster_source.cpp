@@ -890,8 +890,15 @@ class Worker {
       const Eigen::Vector2d d = q - a;
       return std::abs(dir.x() * d.y() - dir.y() * d.x()) <= kCollinearMm * len;
     };
-    for (std::size_t start = 0; start < m; ++start) {
-      if (used_[start]) continue;
+    // The walk back tests collinearity against `start`'s line, the walk
+    // forward against the run's first segment's: on a slightly wavy slice (a
+    // tilted plate's float corners) the forward walk can stop short of
+    // `start`, so a start is taken again until a run has covered it.
+    for (std::size_t start = 0; start < m;) {
+      if (used_[start]) {
+        ++start;
+        continue;
+      }
       // Go back to the start of the collinear run containing `start`.
       std::uint32_t seg = static_cast<std::uint32_t>(start), out_end = 1;  // leave by p1
       {
