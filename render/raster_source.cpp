@@ -239,6 +239,10 @@ struct SharedScene {
   std::vector<double> dir_x, dir_y, dir_z;  // directions_d by component
   PreparedMesh mesh;
   double tan_half_fan = 0.0;
+  // How far out in NDC x (y/z over tan_half_fan) a segment is drawn: the
+  // target's columns and a pixel either side (emit); a triangle beyond it
+  // need not be cut (the hierarchy query's fan sides).
+  double ndc_limit = 1.0;
   Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
 };
 
@@ -320,7 +324,8 @@ inline void edge_crossing(double xa, double ya, double za, double xb, double yb,
 // like float_filter): corner k's coordinate q of triangle j at c[3 k + q][j],
 // its plane's (nx, ny, nz, w) at plane[q][j] (PreparedMesh::planes). The cut
 // runs through the two edges of the corner alone on its side. kind[j]: 0 no
-// cut (turned away on a closed mesh, or all on one side), 1 a cut from
+// cut (turned away on a closed mesh, all on one side, or end points that are
+// no finite numbers), 1 a cut from
 // (y0, z0) to (y1, z1), 2 a corner lies on the plane (for Worker::slice).
 constexpr int kCutBatch = 64;
 struct CutBatch {
@@ -356,7 +361,11 @@ void cut_triangles(int count, const CutFrame frame, CutBatch& __restrict b) {
     b.z0[j] = lone2 ? ez[1] : ez[0];
     b.y1[j] = lone1 ? ey[1] : ey[2];
     b.z1[j] = lone1 ? ez[1] : ez[2];
-    const int cuts = (n0 != n1) | (n1 != n2);
+    // A corner that did not reach the frame as a number (a float overflow
+    // far from the part) cuts nothing: its crossings are no numbers either.
+    const bool finite = (b.y0[j] - b.y0[j] == 0.0) & (b.z0[j] - b.z0[j] == 0.0) & (b.y1[j] - b.y1[j] == 0.0) &
+                        (b.z1[j] - b.z1[j] == 0.0);
+    const int cuts = ((n0 != n1) | (n1 != n2)) & finite;
     b.kind[j] = (faces | !f.closed) * (on ? 2 : cuts);
   }
 }
@@ -965,7 +974,7 @@ class Worker {
     // coverage of this thin one.
     double x0 = p0.x() / p0.y() / s_.tan_half_fan, x1 = p1.x() / p1.y() / s_.tan_half_fan;
     double d0 = kNearClipMm / p0.y(), d1 = kNearClipMm / p1.y();
-    const double lim = 1.0 + 2.0 / s_.desc.points;
+    const double lim = s_.ndc_limit;
     if ((x0 < -lim && x1 < -lim) || (x0 > lim && x1 > lim)) return;
     auto cut = [lim](double& xa, double& da, double xb, double db) {
       const double x = std::clamp(xa, -lim, lim);
@@ -1021,21 +1030,22 @@ class Worker {
       lo.array() -= kCullMarginMm;
       hi.array() += kCullMarginMm;
       // The sides of the fan: emit() drops every segment beyond the
-      // target's columns and a pixel either side (|y / z| > T lim in the
-      // sensor frame), so a triangle entirely beyond one side need not be
-      // cut. When the block's profiles share their orientation, each side
-      // is one plane direction and the block's union lies within the
+      // target's columns and a pixel either side (|y / z| > T ndc_limit in
+      // the sensor frame), so a triangle entirely beyond one side need not
+      // be cut. When the block's profiles share their orientation, each
+      // side is one plane direction and the block's union lies within the
       // half-space reaching out to its outermost origin.
+      std::array<Eigen::Vector4d, 2> fan_sides;  // half-spaces n . p + w >= 0
       int sides = 0;
       bool same_orientation = true;
       for (int k = k0 + 1; k < k1; ++k) same_orientation = same_orientation && poses[k].linear() == poses[k0].linear();
       if (same_orientation) {
-        const double tl = s_.tan_half_fan * (1.0 + 2.0 / n);
+        const double tl = s_.tan_half_fan * s_.ndc_limit;
         for (const double y_sign : {-1.0, 1.0}) {
           const Eigen::Vector3d normal = poses[k0].linear() * Eigen::Vector3d(0.0, y_sign, tl);
           double w = std::numeric_limits<double>::infinity();
           for (int k = k0; k < k1; ++k) w = std::min(w, normal.dot(poses[k].translation() - s_.mesh.centre_mm));
-          fan_sides_[sides++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), kCullMarginMm * normal.norm() - w);
+          fan_sides[sides++] = Eigen::Vector4d(normal.x(), normal.y(), normal.z(), kCullMarginMm * normal.norm() - w);
         }
       }
       // Faces turned away from every laser origin of the block (closed
@@ -1043,7 +1053,7 @@ class Worker {
       // decides exactly for each profile.
       s_.mesh.bvh.crossing_planes(n_world, std::span(plane_d_.data(), rows), lo, hi, kCullMarginMm,
                                   std::span(row_entries_.data(), rows), s_.mesh.closed ? &origins : nullptr,
-                                  std::span(fan_sides_.data(), static_cast<std::size_t>(sides)));
+                                  std::span(fan_sides.data(), static_cast<std::size_t>(sides)));
       for (int k = k0; k < k1; ++k) {
         // Mesh-centred world -> sensor, in double: p_s = R^T (p_c + c - t).
         const Eigen::Matrix3d r = poses[k].linear();
@@ -1137,7 +1147,6 @@ class Worker {
   std::size_t stream_capacity_ = 0;        // bytes allocated for stream_vbo_
   std::array<std::vector<std::uint32_t>, kCullBlock> row_entries_;  // per profile of a block
   std::array<double, kCullBlock> plane_d_{};  // laser plane offsets n . origin of a block
-  std::array<Eigen::Vector4d, 2> fan_sides_{};  // a block's fan sides (half-spaces n . p + w >= 0)
   struct Slot {
     std::uint32_t stamp = 0, first = 0, second = 0, count = 0;
   };
@@ -1231,6 +1240,7 @@ class RasterSource final : public ProfileSource {
     // Column i is the centre of pixel i of an n-wide image whose horizontal
     // half-angle is fan/2 (sensor/rays.h): NDC x = (y/z) / tan(fan/2).
     s.tan_half_fan = std::tan(0.5 * desc.fan_deg * std::numbers::pi / 180.0);
+    s.ndc_limit = 1.0 + 2.0 / desc.points;
     s.camera_mm = camera_model(desc).centre_mm;
     s.mesh = prepare(mesh_world, options.merge_planar);
 

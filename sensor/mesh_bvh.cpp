@@ -101,21 +101,18 @@ MeshBvh::MeshBvh(std::span<const float> positions, std::span<const std::uint32_t
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double per_n = 0.0, per_edges = 0.0;
     for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-      const auto& c = corners_[i];
-      const Eigen::Vector3d a(c[0], c[1], c[2]);
-      const Eigen::Vector3d e1 = Eigen::Vector3d(c[3], c[4], c[5]) - a, e2 = Eigen::Vector3d(c[6], c[7], c[8]) - a;
-      const Eigen::Vector3d nrm = e1.cross(e2);
-      const double len = nrm.norm();
+      const FaceTerms t = face_terms(i);
+      const double len = t.nrm.norm();
       if (!(len > 0.0) || !std::isfinite(len)) {
         per_n = INFINITY;
         continue;
       }
       for (int j = 0; j < 3; ++j) {
-        lo[j] = std::min(lo[j], nrm[j] / len);
-        hi[j] = std::max(hi[j], nrm[j] / len);
+        lo[j] = std::min(lo[j], t.nrm[j] / len);
+        hi[j] = std::max(hi[j], t.nrm[j] / len);
       }
-      per_n = std::max(per_n, nrm.lpNorm<1>() / len);
-      per_edges = std::max(per_edges, 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) / len);
+      per_n = std::max(per_n, t.per_n / len);
+      per_edges = std::max(per_edges, t.per_edges / len);
     }
     // Widened far beyond the rounding of the unit normals and of the floats.
     for (int j = 0; j < 3; ++j) {
@@ -195,13 +192,22 @@ MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
   return f;
 }
 
-[[gnu::always_inline]] inline bool MeshBvh::may_face(std::uint32_t i, const Facing& f) const {
+[[gnu::always_inline]] inline MeshBvh::FaceTerms MeshBvh::face_terms(std::uint32_t i) const {
   const auto& c = corners_[i];
-  const Eigen::Vector3d a(c[0], c[1], c[2]);
-  const Eigen::Vector3d e1 = Eigen::Vector3d(c[3], c[4], c[5]) - a, e2 = Eigen::Vector3d(c[6], c[7], c[8]) - a;
-  const Eigen::Vector3d nrm = e1.cross(e2);
+  FaceTerms t;
+  t.a = Eigen::Vector3d(c[0], c[1], c[2]);
+  t.e1 = Eigen::Vector3d(c[3], c[4], c[5]) - t.a;
+  t.e2 = Eigen::Vector3d(c[6], c[7], c[8]) - t.a;
+  t.nrm = t.e1.cross(t.e2);
+  t.per_n = t.nrm.lpNorm<1>();
+  t.per_edges = 7.0 * (t.e1.lpNorm<1>() + t.e2.lpNorm<1>());
+  return t;
+}
+
+[[gnu::always_inline]] inline bool MeshBvh::may_face(std::uint32_t i, const Facing& f) const {
+  const FaceTerms t = face_terms(i);
   // Largest n . (p - a) over the box.
-  const double best = nrm.dot(f.centre - a) + nrm.cwiseAbs().dot(f.half);
+  const double best = t.nrm.dot(f.centre - t.a) + t.nrm.cwiseAbs().dot(f.half);
   if (best >= 0.0) return true;
   // The corners are float roundings (at most 2^-24 r, r bounding every
   // coordinate) of the mesh the caller's exact test uses. Moving a by d
@@ -210,7 +216,7 @@ MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
   // 7 (|e1| + |e2|) r d. The margin is 16 times the sum (and covers the double
   // arithmetic here many times over). Lengths taken as sums of |components|
   // (never shorter, and no square roots).
-  const double margin = 0x1p-20 * f.r * (nrm.lpNorm<1>() + 7.0 * (e1.lpNorm<1>() + e2.lpNorm<1>()) * f.r);
+  const double margin = 0x1p-20 * f.r * (t.per_n + t.per_edges * f.r);
   return best >= -margin;
 }
 
@@ -238,7 +244,6 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
                               double tol_mm, std::span<std::vector<std::uint32_t>> out,
                               const Box3* facing, std::span<const Eigen::Vector4d> keep) const {
   if (d.empty()) return;
-  assert(keep.size() <= 4);
   // The offsets in increasing order (a triangle crosses a contiguous run of
   // them: found from the mean spacing instead of testing every one), at
   // most kMaxSorted per traversal.
@@ -267,10 +272,12 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
         }
         if (!(std::abs(centre - mid) <= extent + half)) return false;
         for (const Eigen::Vector4d& h : keep) {
-          // The box's corner farthest into the half-space.
-          double best = h[3];
-          for (int k = 0; k < 3; ++k) best += std::max(h[k] * node.lo[k], h[k] * node.hi[k]);
-          if (best < 0.0) return false;
+          // The box's corner farthest into the half-space, summed in the leaf
+          // test's order: rounding is monotonic, so no corner of a triangle
+          // inside the box scores more than the box does.
+          const double x = h[0] >= 0.0 ? node.hi[0] : node.lo[0], y = h[1] >= 0.0 ? node.hi[1] : node.lo[1],
+                       z = h[2] >= 0.0 ? node.hi[2] : node.lo[2];
+          if (h[0] * x + h[1] * y + h[2] * z + h[3] < 0.0) return false;
         }
         return !facing || node_may_face(static_cast<std::uint32_t>(&node - nodes_.data()), face);
       },

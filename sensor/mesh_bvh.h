@@ -48,8 +48,8 @@ class MeshBvh {
   // within rounding, is dropped). For closed meshes, whose back faces are
   // always hidden behind front faces.
   //
-  // With `keep` (up to 4 half-spaces dot(plane.xyz, p) + plane.w >= 0, such
-  // as the sides of a laser fan), triangles with every corner outside one of
+  // With `keep` (half-spaces dot(plane.xyz, p) + plane.w >= 0, such as the
+  // sides of a laser fan), triangles with every corner outside one of
   // them are dropped too, and so is every node whose box is. Tested in
   // double on the corners as given: the caller moves the planes outwards by
   // whatever margin it needs.
@@ -91,6 +91,15 @@ class MeshBvh {
     double r = 0.0;
   };
   Facing facing_of(const Box3& box) const;
+  // What the facing tests need of the triangle at entry i: its first corner
+  // a, edges e1 = b - a and e2 = c - a, normal e1 x e2, and may_face's two
+  // margin coefficients |n|_1 and 7 (|e1|_1 + |e2|_1). One function, so that
+  // node_may_face's bounds are built from exactly what may_face tests.
+  struct FaceTerms {
+    Eigen::Vector3d a, e1, e2, nrm;
+    double per_n = 0.0, per_edges = 0.0;
+  };
+  FaceTerms face_terms(std::uint32_t i) const;
   // Whether the triangle at entry i may face a point of the box (see
   // crossing_planes).
   bool may_face(std::uint32_t i, const Facing& f) const;
