@@ -426,6 +426,15 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
     constexpr std::uint64_t kAllUsable = 0x0101010101010101ull;
     const float* py = profile.y_mm.data();
     const float* pz = profile.z_mm.data();
+    // Columns [from, to) one by one, kept where usable.
+    auto gather = [&](int from, int to) {
+      for (int i = from; i < to; ++i) {
+        ys[nv] = py[lo + i];
+        zs[nv] = pz[lo + i];
+        cols[nv] = lo + i;
+        nv += usable[i];
+      }
+    };
     int k = 0;
     for (; k + 8 <= span; k += 8) {
       std::uint64_t block;
@@ -437,20 +446,9 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
         nv += 8;
         continue;
       }
-      if (block == 0) continue;
-      for (int i = k; i < k + 8; ++i) {
-        ys[nv] = py[lo + i];
-        zs[nv] = pz[lo + i];
-        cols[nv] = lo + i;
-        nv += usable[i];
-      }
+      if (block != 0) gather(k, k + 8);
     }
-    for (; k < span; ++k) {
-      ys[nv] = py[lo + k];
-      zs[nv] = pz[lo + k];
-      cols[nv] = lo + k;
-      nv += usable[k];
-    }
+    gather(k, span);
   }
   s.valid_points = nv;
   const int nvc = nv;  // a local copy: stores through uint8_t* could alias nv

@@ -1,6 +1,7 @@
 #include "tracker/tracker.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -250,8 +251,9 @@ class Matcher {
   }
 
   // A segment's line fit, as s_.fit(sg.sums) gives it (refit keeps its
-  // line, rms and centroid so).
-  static std::optional<LineFit> fit_of(const Segment& sg) {
+  // line, rms and centroid so; checked in builds with assertions).
+  std::optional<LineFit> fit_of(const Segment& sg) const {
+    assert(same_fit(sg));
     if (!sg.fitted) return std::nullopt;
     LineFit f;
     f.line = sg.line;
@@ -259,6 +261,13 @@ class Matcher {
     f.count = sg.count();
     f.centroid = sg.centroid;
     return f;
+  }
+  // Whether the segment's fit is, bit for bit, what its sums give.
+  bool same_fit(const Segment& sg) const {
+    const auto f = sg.count() >= 2 ? s_.fit(sg.sums) : std::nullopt;
+    if (f.has_value() != sg.fitted) return false;
+    return !f || (f->line.n == sg.line.n && f->line.c == sg.line.c && f->rms_mm == sg.rms_mm &&
+                  f->centroid == sg.centroid);
   }
 
   // Two runs of points (their sums s1, s2 and line fits p, q) lie on one
@@ -834,9 +843,10 @@ class Matcher {
             if (!next || next->rms_mm > 0.5 * tol_ || next->line.distance(pt(k)) <= tol_ ||
                 acute_angle_deg(next->line, local->line) > p_.butt.max_plate_angle_deg)
               continue;
+            // Every point in (k, e) is off the local line already (k + 1
+            // tested above, the others by e_max's scan): off the next one too?
             bool walls = true;
-            for (int i = k + 1; i < e && walls; ++i)
-              walls = local->line.distance(pt(i)) > tol_ && next->line.distance(pt(i)) > tol_;
+            for (int i = k + 1; i < e && walls; ++i) walls = next->line.distance(pt(i)) > tol_;
             if (walls) {
               hole = true;
               break;
