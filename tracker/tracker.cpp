@@ -893,8 +893,11 @@ class Matcher {
       if (sg.count() >= min_bevel || (sg.count() >= 2 && (top_of(j, -1) >= 0 || top_of(j, +1) >= 0)))
         bevels_.push_back(j);
     }
+    // Pairs: a candidate with the next two, and any with at most two segments
+    // between them: both root faces seen (short segments that are bevel
+    // candidates too, beside a long bevel) put the true pair three apart.
     for (std::size_t qi = 0; qi + 1 < bevels_.size(); ++qi) {
-      for (std::size_t qj = qi + 1; qj <= std::min(qi + 2, bevels_.size() - 1); ++qj) {
+      for (std::size_t qj = qi + 1; qj < bevels_.size() && (qj <= qi + 2 || bevels_[qj] - bevels_[qi] <= 3); ++qj) {
         vgroove_pair(bevels_[qi], bevels_[qj]);
       }
     }

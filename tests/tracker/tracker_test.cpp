@@ -589,14 +589,25 @@ TEST_CASE("butt noisy: plates split out of one merged segment extend over their 
   CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - 180.0) <= 2.0));
 }
 
+namespace {
+// 60-degree groove, 1.2 mm root opening, 8 mm deep, plate tops at z = 92,
+// 1.5 mm root faces.
+struct Groove {
+  double half = 30.0, depth = 8.0, gap = 1.2;
+  double run = depth * std::tan(half * std::numbers::pi / 180.0);
+  Vec2 lr{-0.5 * gap, 100}, rr{0.5 * gap, 100};
+  Vec2 lt = lr + Vec2(-run, -depth), rt = rr + Vec2(run, -depth);
+  std::vector<synth::Piece> pieces() const {
+    return {{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
+            {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}};
+  }
+};
+}  // namespace
+
 TEST_CASE("v-groove: root, angle, depth and area", "[tracker][vgroove]") {
-  // 60-degree groove, 1.2 mm root opening, 8 mm deep, plate tops at z = 92.
-  const double half = 30.0, depth = 8.0, gap = 1.2;
-  const double run = depth * std::tan(half * std::numbers::pi / 180.0);
-  const Vec2 lr(-0.5 * gap, 100), rr(0.5 * gap, 100);
-  const Vec2 lt = lr + Vec2(-run, -depth), rt = rr + Vec2(run, -depth);
-  const auto p = synth::sample({{Vec2(-80, 92), lt}, {lt, lr}, {lr, Vec2(lr.x(), 101.5)},
-                                {rr, Vec2(rr.x(), 101.5)}, {rr, rt}, {rt, Vec2(80, 92)}});
+  const Groove g;
+  const auto& [half, depth, gap, run, lr, rr, lt, rt] = g;
+  const auto p = synth::sample(g.pieces());
   const auto r = track(p, tk::JointType::VGroove);
   REQUIRE(r.status == tk::TrackStatus::Ok);
   // Root edges lie between two rays along the bevels.
@@ -612,6 +623,29 @@ TEST_CASE("v-groove: root, angle, depth and area", "[tracker][vgroove]") {
   CHECK((*r.break_points[5] - rt).norm() < 1e-3);
   for (int i = 0; i <= 6; ++i) CHECK(r.break_points[i].has_value());
   CHECK_FALSE(r.break_points[7].has_value());
+}
+
+TEST_CASE("v-groove: both root faces seen as short segments of their own", "[tracker][vgroove]") {
+  // The groove above, seen by 4096 columns over a 10-degree fan (rays 0.0035
+  // mm apart at 100 mm): each 1.5 mm root face catches a few rays, too few to
+  // be a segment of s_min points but enough to be fitted, so four bevel
+  // candidates lie in a row (bevel, face, face, bevel) and the true pair is
+  // three segments apart.
+  const Groove g;
+  const auto p = synth::sample(g.pieces(), 4096, 5.0);
+  const auto r = track(p, tk::JointType::VGroove);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  // The premise: two short fitted segments between the bevels.
+  int short_fitted = 0;
+  for (const auto& g : r.segments) short_fitted += g.points >= 2 && g.points < 8;
+  CHECK(short_fitted == 2);
+  // Spacing of the rays along a bevel at the root: 0.0035 mm / sin 30 deg.
+  const double tol = 2.0 * 100.0 * std::tan(5.0 * std::numbers::pi / 180.0) / 4096 / 0.5 + 1e-4;
+  CHECK((*r.track_point - Vec2(0, 100)).norm() < tol);
+  CHECK(r.gap_mm == Approx(g.gap).margin(2 * tol));
+  CHECK(r.angle_deg == Approx(60.0).margin(1e-3));
+  CHECK(r.depth_mm == Approx(g.depth).margin(tol));
 }
 
 TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
