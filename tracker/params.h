@@ -144,6 +144,11 @@ struct ButtParams {
   // the long segments beyond them on their line, as neighbouring plates are
   // (noise can cut the far part short; its own line alone is off in angle).
   bool extend_split_plates = true;
+  // A hole fewer than s_min points from a segment's end or start (noise cut
+  // the plate beyond it into pieces, and the merge joined the first piece to
+  // the segment across the hole) is a gap candidate when the next (previous)
+  // long segment reaches back over the pieces to it.
+  bool stub_across_hole = true;
 };
 
 struct VGrooveParams {

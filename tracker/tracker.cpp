@@ -738,6 +738,10 @@ class Matcher {
 
   void butt() {
     const int s_min = std::max(2, p_.segmentation.segments.min_segment_points);
+    // A hole between points k and k + 1: a run of min_hole_columns invalid
+    // columns (see evidence()).
+    const int hole = std::max(1, p_.butt.min_hole_columns);
+    auto is_hole = [&](int k) { return s_.cuts[k] && invalid_run(s_.cols[k], s_.cols[k + 1]) >= hole; };
     // Two plates in neighbouring long segments (or with one between them, an
     // edge face) with something between them...
     for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
@@ -747,9 +751,15 @@ class Matcher {
         if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
         // Each plate reaches over the consecutive points between them that lie
         // on its line (within the surface tolerance): noise cuts a far plate
-        // into pieces too short to be segments.
-        a.last = reach(a.line, a.last, +1, b.first);
-        b.first = reach(b.line, b.first, -1, a.last);
+        // into pieces too short to be segments. Not across a hole (a run of
+        // min_hole_columns invalid columns): plates on one line each reach
+        // over the other's points, and past the hole it would be lost.
+        int a_stop = a.last + 1;
+        while (a_stop < b.first && !is_hole(a_stop - 1)) ++a_stop;
+        a.last = reach(a.line, a.last, +1, a_stop);
+        int b_stop = b.first - 1;
+        while (b_stop > a.last && !is_hole(b_stop)) --b_stop;
+        b.first = reach(b.line, b.first, -1, b_stop);
         // Something between them off both lines (walls in the gap), missing
         // columns, or a jump; a few noisy points on the plates' line are not a gap.
         bool strong = s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) > 0;
@@ -871,6 +881,37 @@ class Matcher {
         const bool a_own = a.first == sg.first && a.last == k, b_own = b.first == e && b.last == sg.last;
         butt_pair(a, b, k + 1, e - 1,
                   evidence(a, b, k, e, missing, a_own ? &*fa : nullptr, b_own ? &*fb : nullptr));
+      }
+    }
+    // ...or a hole (a run of min_hole_columns invalid columns) fewer than s_min
+    // points from a long segment's end: noise cut the plate beyond the hole
+    // into pieces, and the merge joined the first of them, a stub, to this
+    // segment across the hole. That plate is the next long segment, which
+    // must reach back over the pieces and the stub to the hole (see reach()).
+    // Likewise at the segment's start with the long segment before it.
+    if (p_.butt.stub_across_hole) {
+      for (int q = 0; q < n_long(); ++q) {
+        const Segment& sg = seg(q);
+        if (q + 1 < n_long())
+          for (int k = std::max(sg.first + s_min - 1, sg.last - s_min + 1); k < sg.last; ++k) {
+            if (!is_hole(k)) continue;
+            Plate b = extended(q + 1, +1);
+            if (reach(b.line, b.first, -1, k) != k + 1) continue;
+            b.first = k + 1;
+            const auto a = plate_of(sg.first, k);
+            if (a) butt_pair(extended(*a, s_.sums(sg.first, k), s_.fit(sg.first, k), q, -1), b, k + 1, k,
+                             evidence(*a, b, k, k + 1, true));
+          }
+        if (q > 0)
+          for (int k = sg.first; k < std::min(sg.first + s_min - 1, sg.last - s_min + 1); ++k) {
+            if (!is_hole(k)) continue;
+            Plate a = extended(q - 1, -1);
+            if (reach(a.line, a.last, +1, k + 1) != k) continue;
+            a.last = k;
+            const auto b = plate_of(k + 1, sg.last);
+            if (b) butt_pair(a, extended(*b, s_.sums(k + 1, sg.last), s_.fit(k + 1, sg.last), q, +1), k + 1, k,
+                             evidence(a, *b, k, k + 1, true));
+          }
       }
     }
   }

@@ -589,6 +589,43 @@ TEST_CASE("butt noisy: plates split out of one merged segment extend over their 
   CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - 180.0) <= 2.0));
 }
 
+// Coplanar plates at 250 mm (sigma 0.15 mm) with a 1 mm gap at y = 0: two or
+// three columns' rays go through it and find nothing.
+synth::Profile noisy_coplanar_butt(std::uint32_t seed) {
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(-0.5, 250)}, {Vec2(0.5, 250), Vec2(80, 250)}});
+  add_noise(p, 0.15, seed);
+  return p;
+}
+
+TEST_CASE("butt noisy: a plate does not reach over the gap to the other plate's points", "[tracker][butt]") {
+  // Seed 73: noise leaves short pieces beside the gap, and the plates'
+  // lines are one line, so each plate's points are on the other's line: the
+  // right plate, reaching back over the pieces, used to cross the invalid
+  // columns to the left plate's last point, and the gap was inside it.
+  const auto p = noisy_coplanar_butt(73);
+  const auto r = track(p, tk::JointType::Butt, noisy_params(0.15));
+  INFO(r.reason << ", " << r.segments.size() << " segments");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r.track_point->x()) < spacing_at(250.0));
+  CHECK(r.gap_mm == Approx(1.0).margin(2.0 * spacing_at(250.0)));
+}
+
+TEST_CASE("butt noisy: a stub of the far plate merged across the gap", "[tracker][butt]") {
+  // Seed 18: noise cuts the right plate's first few points off the rest, and
+  // the merge joins them to the left plate across the gap; the gap then lies
+  // fewer than s_min points from that segment's end.
+  const auto p = noisy_coplanar_butt(18);
+  auto params = noisy_params(0.15);
+  const auto r = track(p, tk::JointType::Butt, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r.track_point->x()) < spacing_at(250.0));
+  CHECK(r.gap_mm == Approx(1.0).margin(2.0 * spacing_at(250.0)));
+  params.butt.stub_across_hole = false;
+  const auto r2 = track(p, tk::JointType::Butt, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.track_point->x()) < spacing_at(250.0)));
+}
+
 namespace {
 // 60-degree groove, 1.2 mm root opening, 8 mm deep, plate tops at z = 92,
 // 1.5 mm root faces.
