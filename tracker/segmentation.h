@@ -52,6 +52,14 @@ struct PointSums {
     sy += o.sy, sz += o.sz, syy += o.syy, szz += o.szz, syz += o.syz;
     return *this;
   }
+  // The sums of a run without a part of it (rounding differs from summing
+  // the rest afresh).
+  PointSums operator-(const PointSums& o) const {
+    PointSums d = *this;
+    d.n -= o.n;
+    d.sy -= o.sy, d.sz -= o.sz, d.syy -= o.syy, d.szz -= o.szz, d.syz -= o.syz;
+    return d;
+  }
 };
 
 // A run of consecutive kept points lying on one line.

@@ -865,7 +865,8 @@ class Matcher {
         }
         if (!hole) continue;
         while (head_last < k) head.add(pt(++head_last) - s_.ref_);
-        const PointSums tail = s_.sums(e, sg.last);
+        PointSums tail = sg.sums - head;
+        for (int i = k + 1; i < e; ++i) tail.add(pt(i) - s_.ref_, -1.0);  // the walls
         const auto fa = s_.fit(head), fb = s_.fit(tail);
         if (!fa || !fb) continue;
         Plate a{sg.first, k, fa->line, fa->centroid}, b{e, sg.last, fb->line, fb->centroid};
