@@ -223,6 +223,13 @@ struct TrackerParams {
   // and bevel), and one segment across it moved the root edge or the top
   // line.
   bool split_rough_segments = true;
+  // Step 1 keeps an island (a few points cut off on both sides) as a piece
+  // of a surface when its points lie within surface_tol_mm of their chord
+  // (not only OutlierParams::support_tol_mm) and the point beyond a cut
+  // continues that line: on a far, noisy profile the few plate points
+  // between a lap's step and a dropout are never straight to 0.1 mm, and
+  // removed they moved the upper plate's edge by the run's width.
+  bool noise_aware_islands = true;
 };
 
 }  // namespace vts::tracker

@@ -151,7 +151,8 @@ int run_end_cluster(const float* ys, const float* zs, const int* cols, int n, in
 // more than the threshold (or j < 2): only there can a cluster start.
 // Returns whether anything was removed.
 bool eliminate_outliers(const float* ys, const float* zs, const int* cols, int n, const Buffer<std::uint8_t>& cut,
-                        const Buffer<std::uint8_t>& spike, const OutlierParams& op, Buffer<std::uint8_t>& keep) {
+                        const Buffer<std::uint8_t>& spike, const OutlierParams& op, double island_tol_mm,
+                        Buffer<std::uint8_t>& keep) {
   auto raw = [&](int k) { return Vec2(ys[k], zs[k]); };
   keep.assign(n, 1);
   if (!op.enabled || n == 0) return false;
@@ -170,7 +171,8 @@ bool eliminate_outliers(const float* ys, const float* zs, const int* cols, int n
       if (len >= 2) {
         const Vec2 a = raw(r0), b = raw(r1);
         bool straight = true;
-        for (int k = r0 + 1; k < r1 && straight; ++k) straight = !beyond_chord(a, b, raw(k), op.support_tol_mm);
+        const double straight_tol = std::max(op.support_tol_mm, island_tol_mm);
+        for (int k = r0 + 1; k < r1 && straight; ++k) straight = !beyond_chord(a, b, raw(k), straight_tol);
         // The point beyond continues the line: near it, and past the island's
         // end along it (not beside the island: a short chord's line passes
         // near many points).
@@ -367,7 +369,7 @@ void refit(const Segmentation& s, Segment& seg) { refit(s, seg, seg.count() >= 2
 }  // namespace
 
 void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& s,
-                     double detach_tol_mm, double rough_tol_mm) {
+                     double detach_tol_mm, double rough_tol_mm, double island_tol_mm) {
   s.clear();
   const int n = static_cast<int>(profile.y_mm.size());
   if (profile.z_mm.size() != profile.y_mm.size() ||
@@ -472,7 +474,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
   // Step 1: outliers; then the kept points are compacted in place, with prefix
   // sums for O(1) line fits (relative to the first point, for precision).
   find_cuts_gathered(nv, params.segments, cols, s.steps_, s.cuts);
-  const bool removed = eliminate_outliers(ys, zs, cols, nv, s.cuts, s.spike_, params.outliers, s.keep_);
+  const bool removed = eliminate_outliers(ys, zs, cols, nv, s.cuts, s.spike_, params.outliers, island_tol_mm, s.keep_);
   Vec2* pts = s.points.data();
   s.ref_ = nv > 0 ? Vec2(ys[0], zs[0]) : Vec2::Zero();
   int np = 0;

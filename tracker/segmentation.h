@@ -154,8 +154,11 @@ struct Segmentation {
 //   above it (no line with noise alone) at its farthest point from the chord,
 //   if that lies more than rough_tol_mm off and has at least 3 points on
 //   either side, each fitting a line with at most half the whole's rms (a
-//   corner shallower than t_split).
+//   corner shallower than t_split);
+// - island_tol_mm (with TrackerParams::noise_aware_islands, else 0): step 1
+//   keeps an island whose points lie within it of their chord (and the next
+//   point beyond a cut continues that line) as a piece of a surface.
 void segment_profile(const ProfileView& profile, const SegmentationParams& params, Segmentation& out,
-                     double detach_tol_mm = 0.0, double rough_tol_mm = 0.0);
+                     double detach_tol_mm = 0.0, double rough_tol_mm = 0.0, double island_tol_mm = 0.0);
 
 }  // namespace vts::tracker

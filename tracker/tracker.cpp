@@ -1229,7 +1229,8 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
   out.segments.clear();
 
   segment_profile(profile, params_.segmentation, seg_, params_.noise_aware_detach ? params_.surface_tol_mm : 0.0,
-                  params_.split_rough_segments ? params_.surface_tol_mm : 0.0);
+                  params_.split_rough_segments ? params_.surface_tol_mm : 0.0,
+                  params_.noise_aware_islands ? params_.surface_tol_mm : 0.0);
   out.valid_points = seg_.valid_points;
   out.outliers = seg_.outliers;
   if (!seg_.error.empty()) {

@@ -859,6 +859,32 @@ TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   CHECK(std::isnan(r.angle_deg));
 }
 
+TEST_CASE("lap noisy: a few upper plate points between the step and a dropout are kept", "[tracker][lap]") {
+  // Lower plate at 250 mm up to y = 0, the upper plate's top 4 mm nearer from
+  // there on, its edge face hidden (seen edge-on). The upper plate's first 4
+  // points are an island (the step's jump before them, a dropout after), one
+  // of them 0.18 mm in front of the plate: within the noise of sigma 0.15 mm,
+  // but not straight to the outlier filter's 0.1 mm.
+  auto p = synth::sample({{Vec2(-80, 250), Vec2(0, 250)}, {Vec2(0, 246), Vec2(0, 250)},
+                          {Vec2(0, 246), Vec2(80, 246)}});
+  const int u = column_at(p, 0.0);
+  REQUIRE(p.z[u] < 247.0f);
+  along_ray(p, u + 2, -0.18);
+  p.invalidate(u + 4, u + 4);
+  auto params = noisy_params(0.15);
+  params.lap.upper_thickness_mm = 4.0;
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const double sp = spacing_at(250.0);
+  CHECK((*r.track_point - Vec2(0, 250)).norm() < sp);
+  CHECK(r.outliers == 0);
+  // Without the rule the island is removed and the edge moves past the dropout.
+  params.noise_aware_islands = false;
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.track_point - Vec2(0, 250)).norm() < sp));
+}
+
 TEST_CASE("lap noisy: the upper plate reaches over removed points on its line", "[tracker][lap]") {
   // As above (edge face hidden); a reflection cluster displaces 4 of the
   // upper plate's points 1.2 mm towards the sensor, 4 columns before its
