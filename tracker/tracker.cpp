@@ -629,22 +629,27 @@ class Matcher {
     // removed as outliers) in front of both plates are no gap, nor are points
     // off both lines that lie on a line along the plates (a reflection
     // cluster: a few points displaced along their rays by one offset). Walls
-    // are square to the plates.
-    if (s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) == 0)
-      for (const Vec2& o : outliers_between(s_.cols[a.last], s_.cols[b.first]))
-        if (a.line.signed_distance(o) > tol_ && b.line.signed_distance(o) > tol_) return;
+    // are square to the plates: kept points between them all off both lines,
+    // on a line at 45 degrees or more to the plates, are walls seen in the
+    // gap, and then removed points in front of both are a reflection in the
+    // gap, not a reason to doubt it (ButtParams::walls_outrank_removed_points).
+    bool walls = false;
     if (from <= to) {
       bool all_off = true;
       for (int i = from; i <= to; ++i) {
         if (a.line.signed_distance(pt(i)) > tol_ && b.line.signed_distance(pt(i)) > tol_) return;
         all_off = all_off && a.line.distance(pt(i)) > tol_ && b.line.distance(pt(i)) > tol_;
       }
-      if (to > from) {
+      if (to > from && all_off) {
         const auto f = s_.fit(from, to);
-        const double ang = f ? acute_angle_deg(f->line, a.line) : 90.0;
-        if (all_off && ang >= 45.0) evidence = 1;  // walls seen in the gap
+        walls = (f ? acute_angle_deg(f->line, a.line) : 90.0) >= 45.0;
       }
     }
+    if (walls) evidence = 1;
+    if (!(walls && bp.walls_outrank_removed_points) &&
+        s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) == 0)
+      for (const Vec2& o : outliers_between(s_.cols[a.last], s_.cols[b.first]))
+        if (a.line.signed_distance(o) > tol_ && b.line.signed_distance(o) > tol_) return;
     const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
     // Each plate reaches over the points removed as outliers right after its
     // end that lie on its line (TrackerParams::reach_removed_points).

@@ -372,6 +372,32 @@ TEST_CASE("butt noisy: points in front of both plates are no gap", "[tracker][bu
   CHECK(r.gap_mm < 2.0 * s);
 }
 
+TEST_CASE("butt noisy: a reflection in the gap does not hide the walls seen in it", "[tracker][butt]") {
+  // A 1.5 mm gap at y = 20, 100 mm away, the right plate 1 mm deeper (10 mm
+  // thick plates): the right plate's edge face is seen through the gap. The
+  // last two of its points are a reflection 1 mm in front of the left plate
+  // (an island: removed as outliers, in front of both plates).
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(19.25, 100)}, {Vec2(19.25, 100), Vec2(19.25, 110)},
+                          {Vec2(20.75, 101), Vec2(80, 101)}, {Vec2(20.75, 101), Vec2(20.75, 111)}});
+  add_noise(p, 0.01, 3);
+  int w = column_at(p, 19.3);  // the first wall point
+  REQUIRE(p.z[w] > 101.5f);
+  int e = w;
+  while (p.z[e + 1] > 101.2f) ++e;  // the last wall point
+  REQUIRE(e - w >= 5);
+  for (int k = e - 1; k <= e; ++k) along_ray(p, k, std::hypot(p.y[k], p.z[k]) * (99.0 / p.z[k] - 1.0));
+  auto params = noisy_params(0.01);
+  const auto r = track(p, tk::JointType::Butt, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(r.outliers >= 2);
+  CHECK(std::abs(r.track_point->x() - 20.0) < 1.0);
+  CHECK(r.mismatch_mm == Approx(1.0).margin(0.05));
+  params.butt.walls_outrank_removed_points = false;
+  const auto r2 = track(p, tk::JointType::Butt, params);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.track_point->x() - 20.0) < 1.0));
+}
+
 TEST_CASE("butt noisy: a plate cut short by a dropout still reaches to its edge", "[tracker][butt]") {
   // A 1 mm gap at y = 5 (square edges 6 mm deep, rays through it see the
   // right plate's edge face) at 100 mm, sigma 0.03 mm; a dropout 4 columns
