@@ -904,9 +904,11 @@ class Matcher {
             Plate b = extended(q + 1, +1);
             if (reach(b.line, b.first, -1, k) != k + 1) continue;
             b.first = k + 1;
-            const auto a = plate_of(sg.first, k);
-            if (a) butt_pair(extended(*a, s_.sums(sg.first, k), s_.fit(sg.first, k), q, -1), b, k + 1, k,
-                             evidence(*a, b, k, k + 1, true));
+            const PointSums sums = s_.sums(sg.first, k);
+            const auto fit = s_.fit(sums);
+            if (!fit) continue;
+            const Plate a{sg.first, k, fit->line, fit->centroid};
+            butt_pair(extended(a, sums, fit, q, -1), b, k + 1, k, evidence(a, b, k, k + 1, true, &*fit));
           }
         if (q > 0)
           for (int k = sg.first; k < std::min(sg.first + s_min - 1, sg.last - s_min + 1); ++k) {
@@ -914,9 +916,11 @@ class Matcher {
             Plate a = extended(q - 1, -1);
             if (reach(a.line, a.last, +1, k + 1) != k) continue;
             a.last = k;
-            const auto b = plate_of(k + 1, sg.last);
-            if (b) butt_pair(a, extended(*b, s_.sums(k + 1, sg.last), s_.fit(k + 1, sg.last), q, +1), k + 1, k,
-                             evidence(a, *b, k, k + 1, true));
+            const PointSums sums = s_.sums(k + 1, sg.last);
+            const auto fit = s_.fit(sums);
+            if (!fit) continue;
+            const Plate b{k + 1, sg.last, fit->line, fit->centroid};
+            butt_pair(a, extended(b, sums, fit, q, +1), k + 1, k, evidence(a, b, k, k + 1, true, nullptr, &*fit));
           }
       }
     }
