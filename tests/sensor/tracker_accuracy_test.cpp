@@ -210,9 +210,10 @@ void check_scan(const Scan& s, double standoff, double tilt, double shift, Worst
   tk::Tracker tracker(params_for(w));
   const tk::TrackResult& r = tracker.track(view_of(s.profile));
   const Tol tol = tolerances(s);
-  std::ostringstream segs;
+  std::ostringstream segs;  // shown only when a check fails
   for (const auto& g : r.segments)
-    segs << " [" << g.first_col << "-" << g.last_col << " n=" << g.points << " normal " << g.line.n.transpose() << " rms " << g.rms_mm << "]";
+    segs << " [" << g.first_col << "-" << g.last_col << " n=" << g.points << " normal " << g.line.n.transpose()
+         << " rms " << g.rms_mm << "]";
   INFO(describe(s, standoff, tilt, shift) << ": " << to_string(r.status) << " " << r.reason << ", "
                                           << r.segments.size() << " segments" << segs.str());
   REQUIRE(r.status == tk::TrackStatus::Ok);
