@@ -195,12 +195,19 @@ Tol tolerances(const Scan& s, double standoff) {
 
 struct Worst {
   std::map<std::string, double> ratio;  // error / tolerance
+  int scans = 0;
+  int unsure = 0;  // rejected as weak or ambiguous (ConfidenceParams), but see check_scan
   void add(const std::string& key, double err, double tol) { ratio[key] = std::max(ratio[key], err / tol); }
   std::string str() const {
     std::ostringstream o;
     for (const auto& [k, v] : ratio) o << k << " " << v << "; ";
+    o << unsure << " of " << scans << " scans not sure";
     return o.str();
   }
+  // The tracker may say it is not sure of a few scans at the noise limit
+  // (a 1 mm gap at 250 mm with 0.15 mm noise shows one or two rays into it),
+  // at most 2 % of them; any reading it gives must be right.
+  void check_unsure() const { CHECK(unsure <= std::max(1, scans / 50)); }
 };
 
 void check_scan(const Scan& s, double standoff, double tilt, std::uint64_t seed, Worst& worst) {
@@ -218,6 +225,15 @@ void check_scan(const Scan& s, double standoff, double tilt, std::uint64_t seed,
   // CHECK and return rather than REQUIRE: a failed scan must not end the
   // test case and hide the scans after it (a VTS_NOISY_SEEDS sweep counts
   // them all).
+  ++worst.scans;
+  if (r.status == tk::TrackStatus::Rejected && (r.reason.rfind("weak", 0) == 0 || r.reason.rfind("ambiguous", 0) == 0)) {
+    // A butt without mismatch shows its gap only by the rays that fall into
+    // it; fewer than five is what one reflection cluster or dropout run
+    // shows too, so "not sure" is a fair answer there (not counted).
+    const double spacing = standoff * 2.0 * std::tan(0.5 * s.desc.fan_deg * kDeg) / s.desc.points;
+    if (!(w.type == JointType::Butt && w.params.mismatch_mm == 0.0 && w.params.gap_mm < 5.0 * spacing)) ++worst.unsure;
+    return;
+  }
   CHECK(r.status == tk::TrackStatus::Ok);
   if (r.status != tk::TrackStatus::Ok) return;
   const Vec2 root = s.to_sensor(w.truth.root_yz);
@@ -304,6 +320,7 @@ TEST_CASE("tracker with the error model: built-in joints at standoffs 50-250 mm 
           check_scan(s, standoff, tilt, seed, worst);
         }
     WARN(name << " worst error / tolerance: " << worst.str());
+    worst.check_unsure();
   }
 }
 
@@ -318,6 +335,7 @@ static void check_builtin(const char* name) {
         check_scan(s, standoff, tilt, seed, worst);
       }
   WARN(name << " worst error / tolerance: " << worst.str());
+  worst.check_unsure();
 }
 
 static void check_variant(JointType type, double gap, double mismatch) {
@@ -333,6 +351,7 @@ static void check_variant(JointType type, double gap, double mismatch) {
         check_scan(s, standoff, tilt, seed, worst);
       }
   WARN(to_string(type) << " gap " << gap << " worst error / tolerance: " << worst.str());
+  worst.check_unsure();
 }
 
 TEST_CASE("tracker with the error model: built-in corner", "[tracker][accuracy][noisy]") { check_builtin("corner"); }
@@ -377,4 +396,5 @@ TEST_CASE("tracker with the error model: the paper's static setups A-F", "[track
       }
   }
   WARN("static A-F worst error / tolerance: " << worst.str());
+  worst.check_unsure();
 }
