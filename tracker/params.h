@@ -238,6 +238,9 @@ struct ConfidenceParams {
   // a few points.
   int unexplained_points = 6;
   double unexplained_share = 0.1;
+  // Its plates must be lines there: rejected ("curved") when one's points
+  // lie more than this many noise sigmas (rms) about its line.
+  double max_plate_rms_sigma = 2.0;
 };
 
 // A prediction of where the joint is (sensor frame, mm), from the profiles

@@ -72,6 +72,7 @@ struct Evidence {
   double strength = 0.0;
   int points = 0;       // points in that window
   int unexplained = 0;  // of them, on no line of the reading and not inside its opening
+  double fit = 0.0;     // the larger of the plates' rms about their lines there, in noise sigmas
 };
 
 // One way of reading the profile as the configured joint.
@@ -364,6 +365,18 @@ class Matcher {
         lb = l;
       }
     }
+    // Each plate a line there: the rms about its line, in noise sigmas.
+    auto rms_of = [&](const PointSums& ps, const Line& l) {
+      if (ps.n < 2) return 0.0;
+      const Moments m = s_.moments(ps);
+      const Vec2 d = l.direction();
+      // Second moment across the line about the points' own mean, and the
+      // mean's offset from it.
+      const double across = d.y() * d.y() * m.syy + d.x() * d.x() * m.szz - 2.0 * d.x() * d.y() * m.syz;
+      const double off = l.signed_distance(m.mean);
+      return std::sqrt(std::max(0.0, across / ps.n + off * off)) / sig;
+    };
+    ev.fit = std::max(rms_of(sa, la), rms_of(sb, lb));
     double r0[3] = {0.0, 0.0, 0.0}, r1 = 0.0, event = 0.0;
     int into = 0;   // rays into the open joint that found something
     int stray = 0;  // points between the plates of an open joint that fit nothing of it
@@ -1734,6 +1747,14 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
                     "unexplained: %d of the %d points within %g mm of the joint fit none of its lines "
                     "(a bead, a tack weld or an obstacle?)",
                     ev.unexplained, ev.points, cp.window_mm);
+      out.reason = buf;
+      out.confidence = 0.0;
+    } else if (ev.fit > cp.max_plate_rms_sigma) {
+      // A "plate" that is no line there (a bead's or tack weld's surface, a
+      // rounded part): the template's lines do not describe what is seen.
+      out.status = TrackStatus::Rejected;
+      std::snprintf(buf, sizeof buf, "curved: a plate's points lie %.2g noise sigmas (rms) about its line (a bead or a tack weld?)",
+                    ev.fit);
       out.reason = buf;
       out.confidence = 0.0;
     } else if (out.confidence < cp.min_confidence) {
