@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "apps/plot.h"
+#include "plot/plot.h"
 #include "sensor/pose.h"
 #include "sensor/presets.h"
 

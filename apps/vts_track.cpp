@@ -13,10 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "apps/scan.h"
-#include "sensor/profile_csv.h"
-#include "sensor/profile_exr.h"
-#include "sensor/scene_file.h"
+#include "apps/cli.h"
+#include "pipeline/track_input.h"
 #include "tracker/tracker.h"
 #include "trackio/params_yaml.h"
 #include "trackio/result_json.h"
@@ -110,39 +108,6 @@ tk::Range option_range(const std::string& option, const std::string& text, const
   return {*lo, *hi};
 }
 
-// The joint of a recording's scene, if the file says. A mesh workpiece says
-// only when its scene named the joint (`joint:`), and gives no thickness; its
-// mesh file is not read.
-std::optional<vts::JointType> scene_joint(const ProfileRecording& rec, double* thickness_mm) {
-  if (rec.info.scene_text.empty()) return std::nullopt;
-  try {
-    const Cell cell = parse_scene(rec.info.scene_text, rec.info.scene_name, MeshFiles::Skip);
-    if (cell.workpieces.empty()) return std::nullopt;
-    const vts::Workpiece& w = cell.workpieces.front();
-    if (!w.has_joint()) return std::nullopt;
-    *thickness_mm = w.is_mesh() ? 0.0 : w.params.thickness_mm;
-    return w.type;
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-}
-
-std::optional<tk::JointType> tracker_joint(vts::JointType t) {
-  switch (t) {
-    case vts::JointType::Fillet: return tk::JointType::Fillet;
-    case vts::JointType::Corner: return tk::JointType::Corner;
-    case vts::JointType::Lap: return tk::JointType::Lap;
-    case vts::JointType::Butt: return tk::JointType::Butt;
-    case vts::JointType::VGroove: return tk::JointType::VGroove;
-    default: return std::nullopt;
-  }
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 int run_track(const TrackOptions& o) {
   // Everything is read and checked before anything is written.
   std::optional<tk::JointType> joint;
@@ -165,54 +130,29 @@ int run_track(const TrackOptions& o) {
         option_number("--upper-thickness", o.upper_thickness, trackio::find_param("lap.upper_thickness_mm")->limit, "mm");
 
   // The input.
-  const std::string ext = lower(fs::path(o.input).extension().string());
-  std::vector<Profile> profiles;
-  std::optional<vts::JointType> from_scene;
-  double scene_thickness = 0.0;
-  if (ext == ".csv") {
-    if (o.truth)
-      throw InputError("--truth: " + o.input + " is a CSV file; only EXR files recorded with the error model carry "
-                       "ground truth");
-    try {
-      profiles = read_profile_csv(o.input);
-    } catch (const CsvError& e) {
-      throw InputError(e.what());
-    }
-  } else if (ext == ".exr") {
-    ProfileRecording rec;
-    try {
-      rec = read_profile_exr(o.input);
-    } catch (const ExrError& e) {
-      throw InputError(e.what());
-    }
-    if (o.truth && !rec.info.error_model)
-      throw InputError("--truth: " + o.input +
-                       " has no ground truth channels (true.y, true.z, true.valid: written only when the error "
-                       "model is on)");
-    from_scene = scene_joint(rec, &scene_thickness);
-    profiles = std::move(rec.profiles);
-    if (o.truth)
-      for (Profile& p : profiles) {
-        p.y_mm = p.true_y_mm;
-        p.z_mm = p.true_z_mm;
-        p.valid = p.true_valid;
-      }
-  } else {
-    throw InputError(o.input + ": unknown file type '" + fs::path(o.input).extension().string() +
-                     "': expected .exr (vts profile EXR) or .csv");
+  if (o.truth && recording_format(o.input) == RecordingFormat::Csv)
+    throw InputError("--truth: " + o.input + " is a CSV file; only EXR files recorded with the error model carry "
+                     "ground truth");
+  TrackInput input;
+  try {
+    input = read_track_input(o.input);
+  } catch (const TrackInputError& e) {
+    throw InputError(e.what());
   }
+  if (o.truth && !input.has_truth)
+    throw InputError("--truth: " + o.input +
+                     " has no ground truth channels (true.y, true.z, true.valid: written only when the error "
+                     "model is on)");
+  if (o.truth) use_truth(input);
 
   // Joint: --joint, else the params file's, else the recording's scene, else fillet.
   if (!joint) joint = file.joint;
-  bool joint_from_scene = false;
-  if (!joint && from_scene) {
-    joint = tracker_joint(*from_scene);
-    joint_from_scene = joint.has_value();
-  }
+  const bool joint_from_scene = !joint && input.scene_joint;
+  if (!joint) joint = input.scene_joint;
   params.joint = joint.value_or(tk::JointType::Fillet);
   if (o.upper_thickness.empty() && joint_from_scene && params.joint == tk::JointType::Lap &&
       params.lap.upper_thickness_mm == 0.0)
-    params.lap.upper_thickness_mm = scene_thickness;
+    params.lap.upper_thickness_mm = input.scene_thickness_mm;
   if (!o.angle.empty() || !o.gap.empty()) {
     tk::Range* angle = nullptr;
     tk::Range* gap = nullptr;
@@ -248,7 +188,7 @@ int run_track(const TrackOptions& o) {
 
   tk::Tracker tracker(params);
   tk::TrackResult result;
-  for (const Profile& p : profiles) {
+  for (const Profile& p : input.profiles) {
     tracker.track(tk::ProfileView{p.y_mm, p.z_mm, p.valid}, result);
     const std::string line = trackio::result_to_json_line(p.index, result);
     out.write(line.data(), static_cast<std::streamsize>(line.size()));
