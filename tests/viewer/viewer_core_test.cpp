@@ -7,10 +7,10 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "apps/viewer_camera.h"
-#include "apps/viewer_keys.h"
-#include "apps/viewer_scanner.h"
-#include "apps/viewer_torch.h"
+#include "viewer/camera.h"
+#include "viewer/keys.h"
+#include "viewer/scan_worker.h"
+#include "viewer/torch.h"
 #include "sensor/cell.h"
 
 namespace {

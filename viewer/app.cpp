@@ -1,4 +1,4 @@
-#include "apps/viewer_app.h"
+#include "viewer/app.h"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "render/viewer_geometry.h"
+#include "viewer/geometry.h"
 #include "sensor/error_model.h"
 #include "sensor/presets.h"
 #include "sensor/profile_exr.h"

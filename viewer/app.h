@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "apps/viewer_camera.h"
-#include "apps/viewer_keys.h"
-#include "apps/viewer_scanner.h"
-#include "apps/viewer_torch.h"
-#include "render/viewer_renderer.h"
+#include "viewer/camera.h"
+#include "viewer/keys.h"
+#include "viewer/scan_worker.h"
+#include "viewer/torch.h"
+#include "viewer/renderer.h"
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
 #include "sensor/profile.h"

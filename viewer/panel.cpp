@@ -1,4 +1,4 @@
-#include "apps/viewer_panel.h"
+#include "viewer/panel.h"
 
 #include <imgui.h>
 

@@ -1,4 +1,4 @@
-#include "apps/viewer_scanner.h"
+#include "viewer/scan_worker.h"
 
 #include <chrono>
 #include <exception>
