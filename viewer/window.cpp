@@ -24,10 +24,7 @@
 #include "viewer/keys.h"
 #include "viewer/panel.h"
 #include "viewer/renderer.h"
-#include "sensor/presets.h"
-#include "sensor/reference_source.h"
-#include "sensor/sim_cell.h"
-#include "sensor/virtual_sensor.h"
+#include "viewer/sim_view.h"
 #include "tracker/master.h"
 
 namespace vts::viewer {
@@ -48,68 +45,6 @@ constexpr double kMaxFrameS = 0.1;
 
 constexpr Rgba kBackground{0.16f, 0.17f, 0.20f, 1.0f};
 
-// vts-view --sim: the run of `vts sim --source reference` for the same seed,
-// sensor and material (docs/SIM.md), computed up front; the viewer then
-// drives the torch through the master's poses on its own clock and scans
-// live. The box cell is shown as two workpieces, one per seam, so that both
-// seams are drawn.
-struct SimView {
-  std::shared_ptr<const vts::Cell> cell;
-  std::vector<vts::tracker::MasterSample> samples;
-  double dt_s = 0.05;
-  std::string summary;
-};
-
-SimView run_sim_for_view(const WindowOptions& o) {
-  namespace tk = vts::tracker;
-  vts::ScannerDesc scanner;
-  if (!o.sensor.empty()) vts::set_sensor_fields(scanner, *vts::sensor_preset(o.sensor));
-  if (!o.material.empty()) vts::apply_material(scanner, o.material);
-  scanner.ideal = o.ideal;
-  vts::SimCellParams params;
-  params.seed = o.app.seed;
-  params.standoff_mm = vts::sim_standoff_mm(scanner);
-  const vts::SimCell sim = vts::build_sim_cell(params);
-  scanner.tool_from_laser = sim.tool_from_laser;
-  auto source = vts::make_reference_source(scanner, sim.mesh);
-  tk::SensorUnit sensor(std::make_unique<vts::VirtualProfileStream>(*source, params.seed),
-                        vts::sim_tracker_params(scanner, params.standoff_mm));
-  tk::Master master(vts::sim_master_params(sim, 10.0, scanner.rate_hz));
-  tk::MasterResult result = master.run(sensor, sim.nominal_world_from_workpiece, sim.plan);
-  const auto metrics = vts::evaluate(sim, result);
-
-  auto cell = std::make_shared<vts::Cell>();
-  cell->name = "sim-box";
-  cell->scanner = scanner;
-  const double h = 0.5 * params.box_side_mm, ph = 0.5 * params.plate_side_mm;
-  auto block = [](double x0, double x1, double y0, double y1, double z0, double z1) {
-    return vts::Plate{{{y0, z0}, {y1, z0}, {y1, z1}, {y0, z1}}, x0, x1};
-  };
-  // Seam 1's workpiece: the joint frame at seam 1's start, x along it.
-  vts::Workpiece w1;
-  w1.params.length_mm = sim.truth[0].length();
-  w1.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(-h, -h, 0.0);
-  w1.plates = {block(h - ph, h + ph, h - ph, h + ph, -params.plate_thickness_mm, 0.0),
-               block(0.0, 2.0 * h, 0.0, 2.0 * h, 0.0, params.box_height_mm)};
-  // Seam 2's: no plates, only its seam line.
-  vts::Workpiece w2;
-  w2.params.length_mm = sim.truth[1].length();
-  w2.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(h, -h, 0.0) *
-                        Eigen::AngleAxisd(0.5 * 3.14159265358979323846, vts::Vec3::UnitZ());
-  cell->workpieces = {w1, w2};
-  SimView view;
-  view.samples = std::move(result.samples);
-  view.dt_s = 1.0 / scanner.rate_hz;
-  cell->path.start = view.samples.front().world_from_tool * scanner.tool_from_laser;
-  cell->path.direction = (sim.truth[0].end - sim.truth[0].start).normalized();
-  view.cell = cell;
-  char line[256];
-  std::snprintf(line, sizeof line, "sim (seed %llu): rms lateral %.4f / %.4f mm, max %.4f / %.4f mm",
-                static_cast<unsigned long long>(params.seed), metrics[0].rms_lateral_mm,
-                metrics[1].rms_lateral_mm, metrics[0].max_error_mm, metrics[1].max_error_mm);
-  view.summary = line;
-  return view;
-}
 
 // Held keys and presses since the last frame, from GLFW's callbacks.
 struct Input {
@@ -267,7 +202,7 @@ int run_window(WindowOptions o) {
   SimView sim_view;
   try {
     if (o.sim) {
-      sim_view = run_sim_for_view(o);
+      sim_view = run_sim_for_view(o.app.seed, o.sensor, o.material, o.ideal);
       o.app.given_cell = sim_view.cell;
       o.app.given_label = "sim-box";
     }

@@ -16,6 +16,7 @@
 namespace {
 
 using namespace vts::viewer;
+using vts::SourceKind;
 
 // Frames of 1/30 s with the scans waited for, as in a scripted run.
 void run_frames(App& app, int frames, MotionInput motion = {}) {
