@@ -33,17 +33,6 @@ void read_scene_joint(const ProfileRecording& rec, TrackInput& input) {
 
 }  // namespace
 
-std::optional<tracker::JointType> tracker_joint(JointType t) {
-  switch (t) {
-    case JointType::Fillet: return tracker::JointType::Fillet;
-    case JointType::Corner: return tracker::JointType::Corner;
-    case JointType::Lap: return tracker::JointType::Lap;
-    case JointType::Butt: return tracker::JointType::Butt;
-    case JointType::VGroove: return tracker::JointType::VGroove;
-    default: return std::nullopt;
-  }
-}
-
 RecordingFormat recording_format(const fs::path& file) {
   const std::string ext = lower(file.extension().string());
   if (ext == ".exr") return RecordingFormat::Exr;

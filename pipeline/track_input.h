@@ -39,7 +39,4 @@ TrackInput read_track_input(const std::filesystem::path& file);
 // The ideal points instead of the measured ones (requires has_truth).
 void use_truth(TrackInput& input);
 
-// The tracker's template for a workpiece's joint; none for a plate.
-std::optional<tracker::JointType> tracker_joint(JointType type);
-
 }  // namespace vts

@@ -57,8 +57,7 @@ std::string file_safe(const std::string& s) {
 
 tracker::JointType template_for(const Cell& cell) {
   if (cell.workpieces.empty()) return tracker::JointType::Fillet;
-  return tracker::joint_type_from_string(to_string(cell.workpieces.front().type))
-      .value_or(tracker::JointType::Fillet);
+  return tracker_joint(cell.workpieces.front().type).value_or(tracker::JointType::Fillet);
 }
 
 // Camera pose in the laser frame, from the error model's camera geometry
