@@ -8,7 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "apps/scan.h"
+#include "apps/cli.h"
+#include "apps/vts_scan.h"
 #include "apps/vts_mesh.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "apps/scan.h"
+#include "apps/cli.h"
 #include "sensor/cell.h"
 #include "sensor/mesh_file.h"
 #include "sensor/scene_file.h"

@@ -6,7 +6,7 @@
 #include <limits>
 #include <memory>
 
-#include "apps/plot.h"
+#include "plot/plot.h"
 #include "sensor/profile_exr.h"
 
 namespace vts::apps {

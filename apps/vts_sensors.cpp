@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/plot.h"
+#include "plot/plot.h"
 #include "sensor/error_model.h"
 #include "sensor/presets.h"
 #include "sensor/rays.h"

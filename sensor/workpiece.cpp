@@ -11,13 +11,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-struct JointName {
-  JointType type;
-  std::string_view name;
-};
-constexpr JointName kJointNames[] = {{JointType::Fillet, "fillet"}, {JointType::Corner, "corner"},
-                                     {JointType::Lap, "lap"},       {JointType::Butt, "butt"},
-                                     {JointType::VGroove, "vgroove"}, {JointType::Plate, "plate"}};
+constexpr std::string_view kPlateName = "plate";
 
 std::string bad(std::string_view field, double value, std::string_view why) {
   std::ostringstream s;
@@ -228,15 +222,31 @@ void build_plate(const JointParams& p, Workpiece& w) {
 
 }  // namespace
 
+std::optional<tracker::JointType> tracker_joint(JointType type) {
+  switch (type) {
+    case JointType::Fillet: return tracker::JointType::Fillet;
+    case JointType::Corner: return tracker::JointType::Corner;
+    case JointType::Lap: return tracker::JointType::Lap;
+    case JointType::Butt: return tracker::JointType::Butt;
+    case JointType::VGroove: return tracker::JointType::VGroove;
+    case JointType::Plate: break;
+  }
+  return std::nullopt;
+}
+
+// The joints are named as the tracker names its templates; the plate is ours.
 std::string_view to_string(JointType type) {
-  for (const auto& j : kJointNames)
-    if (j.type == type) return j.name;
+  if (type == JointType::Plate) return kPlateName;
+  if (const auto t = tracker_joint(type)) return tracker::to_string(*t);
   return "unknown";
 }
 
 std::optional<JointType> joint_type_from_string(std::string_view name) {
-  for (const auto& j : kJointNames)
-    if (j.name == name) return j.type;
+  if (name == kPlateName) return JointType::Plate;
+  const auto t = tracker::joint_type_from_string(name);
+  if (!t) return std::nullopt;
+  for (const JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt, JointType::VGroove})
+    if (tracker_joint(type) == t) return type;
   return std::nullopt;
 }
 

@@ -17,13 +17,18 @@
 #include "sensor/mesh.h"
 #include "sensor/mesh_file.h"
 #include "sensor/pose.h"
+#include "tracker/types.h"
 
 namespace vts {
 
 enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Plate };
 
+// "fillet", "corner", "lap", "butt", "vgroove" (the tracker's template
+// names, tracker/types.h), "plate".
 std::string_view to_string(JointType type);
 std::optional<JointType> joint_type_from_string(std::string_view name);
+// The tracker's template for a joint; none for the plate.
+std::optional<tracker::JointType> tracker_joint(JointType type);
 
 // Every joint reads the fields that apply to it (see docs/SCENE_FORMAT.md);
 // default_params() gives each joint's defaults.

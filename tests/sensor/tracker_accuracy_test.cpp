@@ -18,6 +18,7 @@
 #include <sstream>
 #include <string>
 
+#include "joint_views.h"
 #include "sensor/cell.h"
 #include "sensor/reference_source.h"
 #include "sensor/workpiece.h"
@@ -28,55 +29,12 @@ namespace tk = vts::tracker;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kTrackTolMm = 0.05;
-constexpr double kGapTolMm = 0.1;
-constexpr double kAngleTolDeg = 0.5;
-constexpr double kSeamX = 100.0;  // the laser plane cuts the seam here
-
-tk::JointType tracker_joint(JointType t) {
-  switch (t) {
-    case JointType::Fillet: return tk::JointType::Fillet;
-    case JointType::Corner: return tk::JointType::Corner;
-    case JointType::Lap: return tk::JointType::Lap;
-    case JointType::Butt: return tk::JointType::Butt;
-    case JointType::VGroove: return tk::JointType::VGroove;
-    default: break;
-  }
-  FAIL("no tracker template for this joint");
-  return tk::JointType::Fillet;
-}
+using namespace vts::test;
 
 // One scan: the laser looks at the root (shifted by shift_mm across the view)
 // from the joint's natural direction turned by tilt_deg about the seam.
-struct Scan {
-  Pose pose = Pose::Identity();
+struct Scan : JointView {
   Profile profile;
-  const Workpiece* w = nullptr;
-  ScannerDesc desc;
-
-  // Joint-frame cross-section point -> sensor frame (y, z).
-  Vec2 to_sensor(const Vec2& yz) const {
-    const Vec3 s = pose.inverse() * (w->world_from_joint * Vec3(kSeamX, yz.x(), yz.y()));
-    return Vec2(s.y(), s.z());
-  }
-  Vec2 dir_to_sensor(const Vec2& u) const {
-    const Vec3 d = pose.linear().transpose() * (w->world_from_joint.linear() * Vec3(0.0, u.x(), u.y()));
-    return Vec2(d.y(), d.z()).normalized();
-  }
-  // Distance between neighbouring columns' hits along the surface through
-  // joint point e with joint direction u: the angular step of the columns at
-  // that ray (tangents are evenly spaced, sensor/rays.h) times the range,
-  // divided by the sine of the angle between the ray and the surface.
-  double spacing_along(const Vec2& e, const Vec2& u) const {
-    const Vec2 es = to_sensor(e), us = dir_to_sensor(u);
-    const double dt = 2.0 * std::tan(0.5 * desc.fan_deg * kDeg) / desc.points;
-    const double t = es.x() / es.y();
-    const double r = es.norm();
-    const Vec2 rho = es / r;
-    const double sine = std::abs(rho.x() * us.y() - rho.y() * us.x());
-    return 1.05 * r * dt / (1.0 + t * t) / std::max(sine, 1e-3);
-  }
 };
 
 Scan scan(const Workpiece& w, double standoff_mm, double tilt_deg, double shift_mm, int points = 512,
@@ -87,25 +45,10 @@ Scan scan(const Workpiece& w, double standoff_mm, double tilt_deg, double shift_
   s.desc.fan_deg = fan_deg;
   // Depth of field wide enough to see the whole cross-section at 50 mm.
   s.desc.min_range_mm = 20.0;
-  const Vec3 view_joint = Eigen::AngleAxisd(tilt_deg * kDeg, Vec3::UnitX()) * default_view_direction(w);
-  const Vec3 across = view_joint.cross(Vec3::UnitX()).normalized();
-  const Vec3 target = w.world_from_joint *
-                      (Vec3(kSeamX, w.truth.root_yz.x(), w.truth.root_yz.y()) + shift_mm * across);
-  s.pose = sensor_pose_looking_at(target, w.world_from_joint.linear() * view_joint, standoff_mm,
-                                  w.seam_direction());
+  s.pose = root_view(w, standoff_mm, tilt_deg, shift_mm);
   auto source = make_reference_source(s.desc, w.mesh());
   source->scan(s.pose, s.profile);
   return s;
-}
-
-tk::ProfileView view_of(const Profile& p) { return {p.y_mm, p.z_mm, p.valid}; }
-
-const Vec2& feature(const Workpiece& w, const std::string& name) {
-  for (const auto& [n, p] : w.truth.features)
-    if (n == name) return p;
-  FAIL("no feature " << name);
-  static Vec2 none;
-  return none;
 }
 
 // Tolerances for one scan, from the geometry.
@@ -177,25 +120,6 @@ Tol tolerances(const Scan& s) {
   }
   return t;
 }
-
-tk::TrackerParams params_for(const Workpiece& w) {
-  tk::TrackerParams tp;
-  tp.joint = tracker_joint(w.type);
-  // A lap template knows the nominal upper plate thickness.
-  if (w.type == JointType::Lap) tp.lap.upper_thickness_mm = w.params.thickness_mm;
-  return tp;
-}
-
-// Worst error / tolerance seen per joint and quantity, for the summary.
-struct Worst {
-  std::map<std::string, double> err;
-  void add(const std::string& key, double e) { err[key] = std::max(err[key], e); }
-  std::string str() const {
-    std::ostringstream o;
-    for (const auto& [k, v] : err) o << k << " " << v << "; ";
-    return o.str();
-  }
-};
 
 std::string describe(const Scan& s, double standoff, double tilt, double shift) {
   std::ostringstream o;

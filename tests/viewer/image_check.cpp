@@ -24,7 +24,7 @@
 
 namespace {
 
-// What apps/viewer_app.h and apps/viewer_panel.h promise.
+// What viewer/app.h and viewer/panel.h promise.
 constexpr int kLaser[3] = {255, 0, 0};
 constexpr int kPanelBg[3] = {23, 26, 31};
 

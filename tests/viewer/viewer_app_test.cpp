@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <string>
 
-#include "apps/viewer_app.h"
+#include "viewer/app.h"
 #include "render/gl_context.h"
-#include "render/viewer_renderer.h"
+#include "viewer/renderer.h"
 #include "sensor/cell.h"
 #include "sensor/presets.h"
 #include "sensor/profile_exr.h"
@@ -16,6 +16,7 @@
 namespace {
 
 using namespace vts::viewer;
+using vts::SourceKind;
 
 // Frames of 1/30 s with the scans waited for, as in a scripted run.
 void run_frames(App& app, int frames, MotionInput motion = {}) {

@@ -7,10 +7,10 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "apps/viewer_camera.h"
-#include "apps/viewer_keys.h"
-#include "apps/viewer_scanner.h"
-#include "apps/viewer_torch.h"
+#include "viewer/camera.h"
+#include "viewer/keys.h"
+#include "viewer/scan_worker.h"
+#include "viewer/torch.h"
 #include "sensor/cell.h"
 
 namespace {
@@ -18,6 +18,7 @@ namespace {
 using vts::Pose;
 using vts::Vec3;
 using namespace vts::viewer;
+using vts::SourceKind;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -156,13 +157,13 @@ void worker_scans_the_plate(SourceKind kind) {
   vts::Cell cell = *vts::builtin_cell("plate");
   cell.scanner.ideal = true;
   ScanWorker worker;
-  worker.configure(cell.scanner, cell.mesh(), kind);
+  worker.configure(cell.scanner, cell.mesh(), kind, 0);
   std::vector<ScanWorker::Request> requests;
   for (int i = 0; i < 5; ++i) requests.push_back({cell.path.pose_at(i), 0.05 * i, 100 + i});
   worker.submit(requests);
   worker.wait_idle();
   CHECK(worker.take_error().empty());
-  const auto profiles = worker.take_results();
+  const auto profiles = worker.take_results().output;
   REQUIRE(profiles.size() == 5);
   for (int i = 0; i < 5; ++i) {
     const vts::Profile& p = profiles[static_cast<std::size_t>(i)];
@@ -179,9 +180,9 @@ void worker_scans_the_plate(SourceKind kind) {
 
   // Reconfiguring drops what was submitted before.
   worker.submit(requests);
-  worker.configure(cell.scanner, cell.mesh(), kind);
+  worker.configure(cell.scanner, cell.mesh(), kind, 0);
   worker.wait_idle();
-  CHECK(worker.take_results().empty());
+  CHECK(worker.take_results().output.empty());
 }
 
 }  // namespace

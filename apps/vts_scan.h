@@ -1,24 +1,13 @@
 #pragma once
-// `vts scan`: runs a cell's scan path through a profile source and writes the
-// profiles to an EXR file (docs/CLI.md).
-#include <stdexcept>
+// `vts scan`: parses the options into a scan job (pipeline/scan_job.h) that
+// writes the profiles to an EXR file, and prints its report (docs/CLI.md).
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "apps/cli.h"
+
 namespace vts::cli {
-
-// Exit codes: 0 success, 1 runtime failure (GL, EXR write), 2 bad input
-// (option value, scene file). 128 + the signal when interrupted: 130 SIGINT,
-// 143 SIGTERM.
-inline constexpr int kExitOk = 0;
-inline constexpr int kExitRuntime = 1;
-inline constexpr int kExitUsage = 2;
-
-// A bad option value or input file, found before any output is created.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // Raw option text; run_scan() parses and checks every value so that its
 // messages name the option and the value. Empty means "not given".

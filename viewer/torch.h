@@ -3,7 +3,7 @@
 // sensor scans by. Pure math, no GL, no window.
 //
 // Tool frame: origin at the TCP (wire tip), z along the torch axis into the
-// work, x the travel direction, y = z cross x (render/viewer_geometry.h).
+// work, x the travel direction, y = z cross x (viewer/geometry.h).
 #include <cstdint>
 #include <vector>
 

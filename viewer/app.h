@@ -1,7 +1,7 @@
 #pragma once
 // vts-view's state and logic, apart from the window and the panels: the cell,
 // the torch the keys drive, the sensor scanning at its rate of simulated time
-// (a ProfileSource on the sensor thread, then the error model), the tracker on
+// (a scan session, source and error model, on the sensor thread), the tracker on
 // the latest profile, recording to EXR, and the 3D scene handed to the
 // renderer as plain data. Needs a current OpenGL 3.3 core context (meshes
 // are uploaded on load), nothing of the window.
@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "apps/viewer_camera.h"
-#include "apps/viewer_keys.h"
-#include "apps/viewer_scanner.h"
-#include "apps/viewer_torch.h"
-#include "render/viewer_renderer.h"
+#include "viewer/camera.h"
+#include "viewer/keys.h"
+#include "viewer/scan_worker.h"
+#include "viewer/torch.h"
+#include "viewer/renderer.h"
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
 #include "sensor/profile.h"
@@ -98,7 +98,7 @@ class App {
   // geometry gave it (the lit line).
   const Profile* last_profile() const { return have_profile_ ? &last_ : nullptr; }
   const Profile* last_ideal() const { return have_profile_ ? &last_ideal_ : nullptr; }
-  const ScanState& scan_state() const { return scan_state_; }
+  std::uint64_t seed() const { return options_.seed; }
   const tracker::TrackResult* last_track() const { return have_profile_ ? &track_ : nullptr; }
   const tracker::Tracker& tracker() const { return tracker_; }
   SourceKind source_kind() const { return source_kind_; }
@@ -150,7 +150,6 @@ class App {
   SourceKind source_kind_ = SourceKind::Raster;
   ScanWorker worker_;
   std::vector<ScanWorker::Request> requests_;
-  ScanState scan_state_;
   Profile last_;        // measured (error model applied)
   Profile last_ideal_;  // as the source gave it
   bool have_profile_ = false;

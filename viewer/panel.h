@@ -3,7 +3,7 @@
 // paper's Figure 7: points, fitted segments, break points B0..B7, track
 // point, process values, accept/reject, and the cell / joint template /
 // source / sensor controls), a status overlay and the key help overlay.
-#include "apps/viewer_app.h"
+#include "viewer/app.h"
 
 namespace vts::viewer {
 

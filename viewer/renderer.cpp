@@ -1,4 +1,4 @@
-#include "render/viewer_renderer.h"
+#include "viewer/renderer.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -1,4 +1,4 @@
-#include "apps/viewer_app.h"
+#include "viewer/app.h"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "render/viewer_geometry.h"
+#include "viewer/geometry.h"
 #include "sensor/error_model.h"
 #include "sensor/presets.h"
 #include "sensor/profile_exr.h"
@@ -57,8 +57,7 @@ std::string file_safe(const std::string& s) {
 
 tracker::JointType template_for(const Cell& cell) {
   if (cell.workpieces.empty()) return tracker::JointType::Fillet;
-  return tracker::joint_type_from_string(to_string(cell.workpieces.front().type))
-      .value_or(tracker::JointType::Fillet);
+  return tracker_joint(cell.workpieces.front().type).value_or(tracker::JointType::Fillet);
 }
 
 // Camera pose in the laser frame, from the error model's camera geometry
@@ -117,8 +116,6 @@ void App::load(Cell cell, std::string label) {
   world_from_torch_ = start_torch_;
   clock_ = ScanClock{cell_.scanner.rate_hz};
   have_profile_ = false;
-  scan_state_ = ScanState{};
-  scan_state_.seed = options_.seed;
 
   tracker::TrackerParams params = tracker_.params();
   params.joint = template_for(cell_);
@@ -187,7 +184,7 @@ void App::reset_torch() {
 
 // The sensor thread scans with the current scanner, mesh and source kind;
 // scans in flight for the old ones are dropped.
-void App::configure_worker() { worker_.configure(cell_.scanner, cell_.mesh(), source_kind_); }
+void App::configure_worker() { worker_.configure(cell_.scanner, cell_.mesh(), source_kind_, options_.seed); }
 
 void App::set_source(SourceKind kind) {
   if (kind == source_kind_) return;
@@ -285,18 +282,16 @@ void App::update(const MotionInput& held, double dt_s) {
   }
 }
 
-// The sources give the ideal geometric profile; the error model turns it into
-// what the sensor measures (a copy when the scanner is ideal).
+// The sensor thread gives each profile as measured (error model applied, or
+// the ideal one when the scanner is ideal) and as the geometry gave it.
 void App::take_scans() {
-  std::vector<Profile> ideal = worker_.take_results();
-  if (ideal.empty()) return;
-  Profile measured;
-  for (Profile& p : ideal) {
-    apply_error_model(cell_.scanner, p, scan_state_, measured);
-    if (recorder_ && p.time_s >= recorder_->start_time_s) {
+  ScanWorker::Results scanned = worker_.take_results();
+  if (scanned.output.empty()) return;
+  for (const Profile& measured : scanned.output) {
+    if (recorder_ && measured.time_s >= recorder_->start_time_s) {
       Profile copy = measured;
       copy.index = static_cast<std::int64_t>(recorder_->profiles.size());
-      copy.time_s = p.time_s - recorder_->start_time_s;
+      copy.time_s = measured.time_s - recorder_->start_time_s;
       recorder_->bytes += profile_bytes(copy);
       recorder_->profiles.push_back(std::move(copy));
       if (recorder_->bytes > kMaxRecordingBytes) {
@@ -305,8 +300,8 @@ void App::take_scans() {
       }
     }
   }
-  last_ideal_ = std::move(ideal.back());
-  last_ = std::move(measured);
+  last_ideal_ = std::move(scanned.ideal.back());
+  last_ = std::move(scanned.output.back());
   have_profile_ = true;
   const tracker::ProfileView view{last_.y_mm, last_.z_mm, last_.valid};
   tracker_.track(view, track_);
@@ -351,7 +346,7 @@ void App::finish_recording() {
     info.scene_name = scene_label_;
     info.scene_text = scene_to_yaml(cell_);
     info.profiles = static_cast<int>(rec.profiles.size());
-    info.seed = scan_state_.seed;
+    info.seed = options_.seed;
     ProfileExrWriter writer(rec.path, info);
     for (const Profile& p : rec.profiles) writer.write(p);
     writer.finish();

@@ -1,4 +1,4 @@
-#include "apps/viewer_torch.h"
+#include "viewer/torch.h"
 
 #include <algorithm>
 #include <cmath>

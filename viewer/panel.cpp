@@ -1,4 +1,4 @@
-#include "apps/viewer_panel.h"
+#include "viewer/panel.h"
 
 #include <imgui.h>
 
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "apps/plot.h"
+#include "plot/plot.h"
 #include "sensor/pose.h"
 #include "sensor/presets.h"
 

@@ -1,8 +1,9 @@
 #pragma once
-// vts-view's sensor thread: owns the profile source and scans the poses the
-// viewer submits, off the window's thread. The raster source's OSMesa context
-// then lives on its own thread, so the window's GLX context never has to be
-// released for a scan, and scans overlap drawing.
+// vts-view's sensor thread: owns a scan session (pipeline/scan_session.h:
+// the profile source and the error model) and scans the poses the viewer
+// submits, off the window's thread. The raster source's OSMesa contexts are
+// then never made current on the window's thread, so its GLX context never
+// has to be released for a scan, and scans overlap drawing.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -12,21 +13,21 @@
 #include <thread>
 #include <vector>
 
+#include "pipeline/scan_session.h"
 #include "sensor/mesh.h"
-#include "sensor/pose.h"
 #include "sensor/profile.h"
 #include "sensor/scanner.h"
 
 namespace vts::viewer {
 
-enum class SourceKind { Raster, Reference };
-
 class ScanWorker {
  public:
-  struct Request {
-    Pose world_from_sensor = Pose::Identity();
-    double time_s = 0.0;
-    std::int64_t index = 0;
+  using Request = ScanRequest;
+  // Finished scans in request order: what the sensor gives (the error
+  // model's output, or the ideal profile when the scanner is ideal) and the
+  // ideal geometric profile.
+  struct Results {
+    std::vector<Profile> output, ideal;
   };
 
   ScanWorker();
@@ -34,14 +35,14 @@ class ScanWorker {
   ScanWorker(const ScanWorker&) = delete;
   ScanWorker& operator=(const ScanWorker&) = delete;
 
-  // Scanner, world mesh and source for the scans submitted from now on; the
-  // source is built on the worker thread at the next scan. Requests and
-  // results from before are dropped.
-  void configure(const ScannerDesc& desc, const Mesh& mesh_world, SourceKind kind);
+  // Scanner, world mesh, source and error-model seed for the scans submitted
+  // from now on; the session is built on the worker thread at the next scan.
+  // Requests and results from before are dropped.
+  void configure(const ScannerDesc& desc, const Mesh& mesh_world, SourceKind kind, std::uint64_t seed);
   // Queues scans; they are done in order.
   void submit(const std::vector<Request>& requests);
-  // Finished ideal profiles (pose, time and index set), in request order.
-  std::vector<Profile> take_results();
+  // Finished scans (pose, time and index set) since the last call.
+  Results take_results();
   // Submitted scans not yet taken by take_results().
   std::size_t pending() const;
   // Blocks until every submitted scan is finished (or failed).
@@ -65,8 +66,9 @@ class ScanWorker {
   ScannerDesc desc_;
   std::shared_ptr<const Mesh> mesh_;
   SourceKind kind_ = SourceKind::Raster;
+  std::uint64_t seed_ = 0;
   std::deque<Request> queue_;
-  std::vector<Profile> results_;
+  Results results_;
   std::string error_;
   double last_scan_ms_ = 0.0;
 

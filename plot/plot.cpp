@@ -1,4 +1,4 @@
-#include "apps/plot.h"
+#include "plot/plot.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,10 @@
-#include "apps/viewer_scanner.h"
+#include "viewer/scan_worker.h"
 
 #include <chrono>
 #include <exception>
 #include <span>
+#include <utility>
 
-#include "render/raster_source.h"
-#include "sensor/profile_source.h"
-#include "sensor/reference_source.h"
 
 namespace vts::viewer {
 namespace {
@@ -27,15 +25,16 @@ ScanWorker::~ScanWorker() {
   thread_.join();
 }
 
-void ScanWorker::configure(const ScannerDesc& desc, const Mesh& mesh_world, SourceKind kind) {
+void ScanWorker::configure(const ScannerDesc& desc, const Mesh& mesh_world, SourceKind kind, std::uint64_t seed) {
   {
     std::lock_guard lock(mutex_);
     ++generation_;
     desc_ = desc;
     mesh_ = std::make_shared<const Mesh>(mesh_world);
     kind_ = kind;
+    seed_ = seed;
     queue_.clear();
-    results_.clear();
+    results_ = {};
   }
   wake_.notify_all();
 }
@@ -49,16 +48,14 @@ void ScanWorker::submit(const std::vector<Request>& requests) {
   wake_.notify_all();
 }
 
-std::vector<Profile> ScanWorker::take_results() {
+ScanWorker::Results ScanWorker::take_results() {
   std::lock_guard lock(mutex_);
-  std::vector<Profile> out;
-  out.swap(results_);
-  return out;
+  return std::exchange(results_, {});
 }
 
 std::size_t ScanWorker::pending() const {
   std::lock_guard lock(mutex_);
-  return queue_.size() + results_.size() + in_flight_;
+  return queue_.size() + results_.output.size() + in_flight_;
 }
 
 void ScanWorker::wait_idle() {
@@ -79,11 +76,10 @@ double ScanWorker::last_scan_ms() const {
 }
 
 void ScanWorker::run() {
-  std::unique_ptr<ProfileSource> source;
-  std::uint64_t source_generation = 0;
-  std::vector<Pose> poses;
-  std::vector<Profile> profiles;
+  std::unique_ptr<ScanSession> session;
+  std::uint64_t session_generation = 0;
   std::vector<Request> batch;
+  ScanResults scanned;
 
   std::unique_lock lock(mutex_);
   while (true) {
@@ -97,6 +93,7 @@ void ScanWorker::run() {
     const ScannerDesc desc = desc_;
     const std::shared_ptr<const Mesh> mesh = mesh_;
     const SourceKind kind = kind_;
+    const std::uint64_t seed = seed_;
     busy_ = true;
     in_flight_ = n;
     lock.unlock();
@@ -104,24 +101,15 @@ void ScanWorker::run() {
     std::string error;
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      if (!source || source_generation != generation) {
-        source.reset();  // one OSMesa context at a time
-        source = kind == SourceKind::Raster ? make_raster_source(desc, *mesh)
-                                            : make_reference_source(desc, *mesh);
-        source_generation = generation;
+      if (!session || session_generation != generation) {
+        session.reset();  // one set of OSMesa contexts at a time
+        session = std::make_unique<ScanSession>(desc, *mesh, kind, false, seed);
+        session_generation = generation;
       }
-      poses.resize(n);
-      profiles.resize(n);
-      for (std::size_t i = 0; i < n; ++i) poses[i] = batch[i].world_from_sensor;
-      source->scan_batch(poses, std::span(profiles.data(), n));
-      for (std::size_t i = 0; i < n; ++i) {
-        profiles[i].world_from_sensor = batch[i].world_from_sensor;
-        profiles[i].time_s = batch[i].time_s;
-        profiles[i].index = batch[i].index;
-      }
+      session->scan(batch, scanned);
     } catch (const std::exception& e) {
       error = e.what();
-      source.reset();
+      session.reset();
     }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
@@ -132,7 +120,9 @@ void ScanWorker::run() {
     in_flight_ = 0;
     if (generation == generation_) {
       if (error.empty()) {
-        for (std::size_t i = 0; i < n; ++i) results_.push_back(std::move(profiles[i]));
+        const std::span<const Profile> output = scanned.output();
+        results_.output.insert(results_.output.end(), output.begin(), output.end());
+        results_.ideal.insert(results_.ideal.end(), scanned.ideal.begin(), scanned.ideal.end());
         last_scan_ms_ = ms;
       } else {
         error_ = error;
@@ -144,8 +134,8 @@ void ScanWorker::run() {
   busy_ = false;
   idle_.notify_all();
   lock.unlock();
-  // The source (and its OSMesa context) goes with this thread.
-  source.reset();
+  // The session (and its OSMesa contexts) goes with this thread.
+  session.reset();
 }
 
 }  // namespace vts::viewer

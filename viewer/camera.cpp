@@ -1,4 +1,4 @@
-#include "apps/viewer_camera.h"
+#include "viewer/camera.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "apps/viewer_keys.h"
+#include "viewer/keys.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,5 @@
-// vts-view: the interactive viewer (README "Viewer", docs/CLI.md-style help
-// with --help). GLFW window, OpenGL 3.3 core, Dear ImGui panels.
+#include "viewer/window.h"
+
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -20,22 +20,17 @@
 #include <tuple>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
-#include "apps/viewer_app.h"
-#include "apps/viewer_keys.h"
-#include "apps/viewer_panel.h"
-#include "render/viewer_renderer.h"
-#include "sensor/presets.h"
-#include "sensor/reference_source.h"
-#include "sensor/sim_cell.h"
-#include "sensor/virtual_sensor.h"
+#include "viewer/app.h"
+#include "viewer/keys.h"
+#include "viewer/panel.h"
+#include "viewer/renderer.h"
+#include "viewer/sim_view.h"
 #include "tracker/master.h"
 
+namespace vts::viewer {
 namespace {
 
 namespace fs = std::filesystem;
-using namespace vts::viewer;
 
 constexpr int kExitOk = 0;
 constexpr int kExitRuntime = 1;
@@ -50,96 +45,6 @@ constexpr double kMaxFrameS = 0.1;
 
 constexpr Rgba kBackground{0.16f, 0.17f, 0.20f, 1.0f};
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-struct Options {
-  AppOptions app;
-  std::string screenshot;
-  std::optional<int> frames;
-  std::string keys;
-  std::string size = "1280x720";
-  bool fps = false;
-  std::string source = "raster";
-  std::string sensor;
-  std::string material;
-  bool ideal = false;
-  bool sim = false;
-};
-
-// vts-view --sim: the run of `vts sim --source reference` for the same seed,
-// sensor and material (docs/SIM.md), computed up front; the viewer then
-// drives the torch through the master's poses on its own clock and scans
-// live. The box cell is shown as two workpieces, one per seam, so that both
-// seams are drawn.
-struct SimView {
-  std::shared_ptr<const vts::Cell> cell;
-  std::vector<vts::tracker::MasterSample> samples;
-  double dt_s = 0.05;
-  std::string summary;
-};
-
-SimView run_sim_for_view(const Options& o) {
-  namespace tk = vts::tracker;
-  vts::ScannerDesc scanner;
-  if (!o.sensor.empty()) vts::set_sensor_fields(scanner, *vts::sensor_preset(o.sensor));
-  if (!o.material.empty()) vts::apply_material(scanner, o.material);
-  scanner.ideal = o.ideal;
-  vts::SimCellParams params;
-  params.seed = o.app.seed;
-  params.standoff_mm = vts::sim_standoff_mm(scanner);
-  const vts::SimCell sim = vts::build_sim_cell(params);
-  scanner.tool_from_laser = sim.tool_from_laser;
-  auto source = vts::make_reference_source(scanner, sim.mesh);
-  tk::SensorUnit sensor(std::make_unique<vts::VirtualProfileStream>(*source, params.seed),
-                        vts::sim_tracker_params(scanner, params.standoff_mm));
-  tk::Master master(vts::sim_master_params(sim, 10.0, scanner.rate_hz));
-  tk::MasterResult result = master.run(sensor, sim.nominal_world_from_workpiece, sim.plan);
-  const auto metrics = vts::evaluate(sim, result);
-
-  auto cell = std::make_shared<vts::Cell>();
-  cell->name = "sim-box";
-  cell->scanner = scanner;
-  const double h = 0.5 * params.box_side_mm, ph = 0.5 * params.plate_side_mm;
-  auto block = [](double x0, double x1, double y0, double y1, double z0, double z1) {
-    return vts::Plate{{{y0, z0}, {y1, z0}, {y1, z1}, {y0, z1}}, x0, x1};
-  };
-  // Seam 1's workpiece: the joint frame at seam 1's start, x along it.
-  vts::Workpiece w1;
-  w1.params.length_mm = sim.truth[0].length();
-  w1.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(-h, -h, 0.0);
-  w1.plates = {block(h - ph, h + ph, h - ph, h + ph, -params.plate_thickness_mm, 0.0),
-               block(0.0, 2.0 * h, 0.0, 2.0 * h, 0.0, params.box_height_mm)};
-  // Seam 2's: no plates, only its seam line.
-  vts::Workpiece w2;
-  w2.params.length_mm = sim.truth[1].length();
-  w2.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(h, -h, 0.0) *
-                        Eigen::AngleAxisd(0.5 * 3.14159265358979323846, vts::Vec3::UnitZ());
-  cell->workpieces = {w1, w2};
-  SimView view;
-  view.samples = std::move(result.samples);
-  view.dt_s = 1.0 / scanner.rate_hz;
-  cell->path.start = view.samples.front().world_from_tool * scanner.tool_from_laser;
-  cell->path.direction = (sim.truth[0].end - sim.truth[0].start).normalized();
-  view.cell = cell;
-  char line[256];
-  std::snprintf(line, sizeof line, "sim (seed %llu): rms lateral %.4f / %.4f mm, max %.4f / %.4f mm",
-                static_cast<unsigned long long>(params.seed), metrics[0].rms_lateral_mm,
-                metrics[1].rms_lateral_mm, metrics[0].max_error_mm, metrics[1].max_error_mm);
-  view.summary = line;
-  return view;
-}
-
-std::pair<int, int> parse_size(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-    throw UsageError("--size = '" + text + "': expected WIDTHxHEIGHT in pixels, e.g. 1280x720");
-  if (w < 320 || h < 240 || w > 8192 || h > 8192)
-    throw UsageError("--size = '" + text + "': width must be 320..8192 and height 240..8192 pixels");
-  return {w, h};
-}
 
 // Held keys and presses since the last frame, from GLFW's callbacks.
 struct Input {
@@ -223,97 +128,11 @@ std::string write_png(const fs::path& path, int width, int height, const std::ve
   return {};
 }
 
-int run(int argc, char** argv) {
-  Options o;
-  CLI::App cli{
-      "vts-view: the cell in 3D (workpiece, torch, sensor, laser fan, lit line, camera) with the "
-      "current profile and the tracker's output after the paper's Figure 7. The keyboard drives the "
-      "torch (H lists the keys); the sensor scans at its rate of simulated time.",
-      "vts-view"};
-  cli.option_defaults()->always_capture_default(false);
-  auto* cell = cli.add_option("--cell", o.app.cell,
-                              "Built-in cell (`vts cells`): fillet, corner, lap, butt, vgroove, plate, "
-                              "static-A .. static-F. Default: static-B")
-                   ->type_name("NAME");
-  auto* scene = cli.add_option("--scene", o.app.scene, "Scene file (YAML, docs/SCENE_FORMAT.md)")
-                    ->type_name("FILE");
-  cell->excludes(scene);
-  scene->excludes(cell);
-  auto* sim = cli.add_flag("--sim", o.sim,
-                           "Show the run of `vts sim` (docs/SIM.md): the master welding the box cell's two "
-                           "seams, with --seed (default 1 here), --sensor, --material and --ideal as there; the torch follows "
-                           "the master's poses on the viewer's clock, the keys only move the camera");
-  sim->excludes(cell);
-  sim->excludes(scene);
-  cli.add_option("--source", o.source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
-      ->type_name("KIND");
-  cli.add_option("--sensor", o.sensor,
-                 "Sensor preset (sensor/presets.h): mspot, lps-2048-short, "
-                 "lps-1280-mid. Default: the cell's scanner")
-      ->type_name("NAME");
-  cli.add_option("--material", o.material, "Surface material preset for the error model, e.g. shiny-steel")
-      ->type_name("NAME");
-  cli.add_flag("--ideal", o.ideal, "Start with the error model off (ideal geometric profiles)");
-  cli.add_option("--seed", o.app.seed, "Seed of the error model's random draws (default 0)")->type_name("N");
-  cli.add_option("--record", o.app.record,
-                 "File for the first recording started with P (later ones get -2, -3, ...). "
-                 "Default: vts-view-CELL-YYYYmmdd-HHMMSS.exr in the working directory")
-      ->type_name("FILE");
-  cli.add_option("--screenshot", o.screenshot,
-                 "After the last frame, write the window to this PNG and exit (needs an X display: "
-                 "xvfb-run -a -s '-screen 0 1280x1024x24' vts-view ...)")
-      ->type_name("PNG");
-  cli.add_option("--frames", o.frames,
-                 "Run this many frames and exit (default with --screenshot or --keys: the key "
-                 "script's length + 3). Each frame is 1/30 s of simulated time and waits for its scans "
-                 "(reproducible pictures), except with --fps")
-      ->type_name("N")
-      ->check(CLI::Range(1, 10000000));
-  cli.add_option("--keys", o.keys,
-                 "Key script, one token per frame: key names (w s a d r f q e z c t g plus minus h "
-                 "space p m v backspace home escape), 'a+b' for two keys in one frame, '_' for no "
-                 "key, 'TOKEN*N' to repeat; e.g. \"w*30 _ d*10\"")
-      ->type_name("SEQUENCE");
-  cli.add_option("--size", o.size, "Window size in pixels, default 1280x720")->type_name("WxH");
-  cli.add_flag("--fps", o.fps,
-               "Print the frame rate at exit (frames after the first 10); the simulation then runs on "
-               "real time with scans in the background, as interactively");
+}  // namespace
 
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = cli.exit(e);
-    return code == 0 ? kExitOk : kExitUsage;
-  }
-
-  // vts sim's default seed, so that `vts-view --sim` shows `vts sim`'s run.
-  if (o.sim && cli.count("--seed") == 0) o.app.seed = 1;
-  std::vector<KeyFrame> script;
-  int width = 0, height = 0;
-  try {
-    script = parse_key_script(o.keys);
-    std::tie(width, height) = parse_size(o.size);
-    if (o.source != "raster" && o.source != "reference")
-      throw UsageError("--source = '" + o.source + "': expected 'raster' or 'reference'");
-    if (!o.sensor.empty() && !vts::sensor_preset(o.sensor))
-      throw UsageError("--sensor = '" + o.sensor + "': unknown preset; valid names: " +
-                       vts::join_names(vts::sensor_preset_names()));
-    if (!o.material.empty()) {
-      vts::ScannerDesc probe;
-      if (!vts::apply_material(probe, o.material))
-        throw UsageError("--material = '" + o.material + "': unknown material; valid names: " +
-                         vts::join_names(vts::material_names()));
-    }
-    if (o.frames && *o.frames < static_cast<int>(script.size()))
-      throw UsageError("--frames = " + std::to_string(*o.frames) + ": the --keys script needs " +
-                       std::to_string(script.size()) + " frames");
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "vts-view: " << e.what() << "\n";
-    return kExitUsage;
-  } catch (const UsageError& e) {
-    std::cerr << "vts-view: " << e.what() << "\n";
-    return kExitUsage;
-  }
+int run_window(WindowOptions o) {
+  const std::vector<KeyFrame>& script = o.script;
+  const int width = o.width, height = o.height;
   const bool scripted = !o.screenshot.empty() || o.frames || !script.empty();
   const long total_frames = o.frames ? *o.frames : static_cast<long>(script.size()) + 3;
 
@@ -383,7 +202,7 @@ int run(int argc, char** argv) {
   SimView sim_view;
   try {
     if (o.sim) {
-      sim_view = run_sim_for_view(o);
+      sim_view = run_sim_for_view(o.app.seed, o.sensor, o.material, o.ideal);
       o.app.given_cell = sim_view.cell;
       o.app.given_label = "sim-box";
     }
@@ -556,14 +375,4 @@ int run(int argc, char** argv) {
   return exit_code;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fflush(stdout);
-    std::cerr << "vts-view: error: " << e.what() << "\n";
-    return kExitRuntime;
-  }
-}
+}  // namespace vts::viewer

@@ -1,4 +1,4 @@
-#include "render/viewer_geometry.h"
+#include "viewer/geometry.h"
 
 #include <algorithm>
 #include <cmath>

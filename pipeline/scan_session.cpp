@@ -1,0 +1,88 @@
+#include "pipeline/scan_session.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "render/raster_source.h"
+#include "sensor/reference_source.h"
+
+namespace vts {
+
+std::string_view to_string(SourceKind kind) { return kind == SourceKind::Raster ? "raster" : "reference"; }
+
+std::unique_ptr<ProfileSource> make_source(SourceKind kind, const ScannerDesc& scanner, const Mesh& mesh_world) {
+  if (kind == SourceKind::Reference) return make_reference_source(scanner, mesh_world);
+  try {
+    return make_raster_source(scanner, mesh_world);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("cannot create the raster source (OSMesa): ") + e.what());
+  }
+}
+
+ScanSession::ScanSession(const ScannerDesc& scanner, const Mesh& mesh_world, SourceKind main,
+                         bool with_reference, std::uint64_t seed)
+    : scanner_(scanner), main_kind_(main), seed_(seed) {
+  main_ = make_source(main, scanner, mesh_world);
+  if (with_reference && main == SourceKind::Raster) reference_ = make_source(SourceKind::Reference, scanner, mesh_world);
+}
+
+ScanSession::~ScanSession() = default;
+
+void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) {
+  const std::size_t count = requests.size();
+  const bool model = !scanner_.ideal;
+  poses_.resize(count);
+  for (std::size_t k = 0; k < count; ++k) poses_[k] = requests[k].world_from_sensor;
+  out.ideal.resize(count);
+  out.measured.resize(model ? count : 0);
+  out.ideal_ref.resize(reference_ ? count : 0);
+  out.measured_ref.resize(reference_ && model ? count : 0);
+  main_->scan_batch(poses_, out.ideal);
+  if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
+  for (std::size_t k = 0; k < count; ++k) {
+    for (Profile* p : {&out.ideal[k], reference_ ? &out.ideal_ref[k] : nullptr}) {
+      if (!p) continue;
+      p->world_from_sensor = requests[k].world_from_sensor;
+      p->time_s = requests[k].time_s;
+      p->index = requests[k].index;
+    }
+  }
+  if (!model || count == 0) return;
+
+  // The draws are keyed by profile index, so both sources see the same ones
+  // and splitting a batch over threads changes nothing; each part has its
+  // own state (scratch and counters, summed by counts()).
+  const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
+  const int parts = std::clamp(static_cast<int>(count) / 64, 1, threads);
+  while (states_.size() < static_cast<std::size_t>(parts)) {
+    states_.emplace_back().seed = seed_;
+    states_ref_.emplace_back().seed = seed_;
+  }
+  auto run = [&](int t, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
+      if (reference_) apply_error_model(scanner_, out.ideal_ref[k], states_ref_[t], out.measured_ref[k]);
+    }
+  };
+  std::vector<std::jthread> helpers;
+  for (int t = 1; t < parts; ++t) helpers.emplace_back(run, t, count * t / parts, count * (t + 1) / parts);
+  run(0, 0, count / parts);
+}
+
+ScanState ScanSession::counts() const {
+  ScanState total;
+  total.seed = seed_;
+  for (const ScanState& s : states_) add_counts(total, s);
+  return total;
+}
+
+ScanState ScanSession::reference_counts() const {
+  ScanState total;
+  total.seed = seed_;
+  for (const ScanState& s : states_ref_) add_counts(total, s);
+  return total;
+}
+
+}  // namespace vts

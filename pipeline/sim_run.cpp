@@ -1,0 +1,226 @@
+#include "pipeline/sim_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "sensor/recorded_sensor.h"
+#include "sensor/virtual_sensor.h"
+
+namespace vts {
+namespace {
+
+namespace fs = std::filesystem;
+namespace tk = vts::tracker;
+
+double rotation_angle_deg(const Pose& a, const Pose& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / std::numbers::pi;
+}
+
+// Every per-column vector of a Profile, in a fixed order.
+template <class P, class F>
+void for_each_column(P& p, F&& f) {
+  f(p.y_mm), f(p.z_mm), f(p.range_mm), f(p.valid), f(p.cos_incidence), f(p.camera_visible), f(p.intensity),
+      f(p.true_y_mm), f(p.true_z_mm), f(p.true_valid);
+}
+template <class T>
+void put(std::ostream& out, const T& v) { out.write(reinterpret_cast<const char*>(&v), sizeof v); }
+template <class T>
+void get(std::istream& in, T& v) { in.read(reinterpret_cast<char*>(&v), sizeof v); }
+
+}  // namespace
+
+SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
+  SimRun run;
+  run.cell = build_sim_cell(spec.cell);
+  run.scanner = spec.scanner;
+  run.scanner.tool_from_laser = run.cell.tool_from_laser;
+  if (const std::string why = validate(run.scanner); !why.empty()) throw std::invalid_argument("scanner: " + why);
+
+  std::unique_ptr<ProfileSource> source;
+  std::unique_ptr<tk::ProfileStream> stream;
+  if (!spec.replay.empty()) {
+    auto rec = RecordedProfileStream::open(spec.replay);  // throws ExrError naming the file
+    // The control unit keeps its configuration; the head's rate is the recording's.
+    run.scanner.rate_hz = rec->recording().info.scanner.rate_hz;
+    stream = std::move(rec);
+    run.source_name = "replay";
+  } else {
+    source = make_source(spec.source, run.scanner, run.cell.mesh);
+    auto vs = std::make_unique<VirtualProfileStream>(*source, spec.seed);
+    if (record) vs->record = record;
+    stream = std::move(vs);
+    run.source_name = std::string(to_string(spec.source));
+  }
+  tk::SensorUnit sensor(std::move(stream), sim_tracker_params(run.scanner, spec.cell.standoff_mm));
+  tk::Master master(sim_master_params(run.cell, spec.speed_mm_s, run.scanner.rate_hz));
+  run.result = master.run(sensor, run.cell.nominal_world_from_workpiece, run.cell.plan);
+  run.metrics = evaluate(run.cell, run.result);
+  run.profiles = sensor.counters().profiles;
+  return run;
+}
+
+bool SimRun::completed() const {
+  bool ok = true;
+  for (const auto& m : metrics) ok = ok && m.welded && m.end_found && m.failure.empty();
+  return ok;
+}
+
+double SimRun::sim_time_s() const { return result.samples.empty() ? 0.0 : result.samples.back().time_s; }
+
+double SimRun::offset_mm() const {
+  return (cell.actual_world_from_workpiece.translation() - cell.nominal_world_from_workpiece.translation()).norm();
+}
+
+double SimRun::rotation_deg() const {
+  return rotation_angle_deg(cell.nominal_world_from_workpiece, cell.actual_world_from_workpiece);
+}
+
+std::string sim_timeseries_csv(const SimRun& run) {
+  const SimCell& cell = run.cell;
+  std::ostringstream f;
+  {
+    f << "time_s,seam,phase,sensor_state,tcp_x_mm,tcp_y_mm,tcp_z_mm,q_w,q_x,q_y,q_z,s_mm,"
+         "true_x_mm,true_y_mm,true_z_mm,lateral_error_mm,vertical_error_mm\n";
+    char buf[512];
+    for (const auto& s : run.result.samples) {
+      const Vec3 p = s.world_from_tool.translation();
+      const Eigen::Quaterniond q = rotation_quat(s.world_from_tool);
+      std::snprintf(buf, sizeof buf, "%.4f,%d,%s,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f", s.time_s,
+                    s.seam + 1, std::string(tk::to_string(s.phase)).c_str(),
+                    std::string(tk::to_string(s.sensor)).c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(),
+                    q.z(), s.s_mm);
+      f << buf;
+      if (s.phase == tk::Phase::Weld && s.seam >= 0 && s.seam < static_cast<int>(cell.truth.size())) {
+        const PointError e = seam_error(cell.truth[s.seam], p);
+        std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.5f,%.5f\n", e.true_point.x(), e.true_point.y(),
+                      e.true_point.z(), e.lateral_mm, e.vertical_mm);
+        f << buf;
+      } else {
+        f << ",,,,,\n";
+      }
+    }
+  }
+  return f.str();
+}
+
+plot::Canvas sim_error_figure(const SimRun& run) {
+  const SimCell& cell = run.cell;
+  const tk::MasterResult& result = run.result;
+  const std::vector<SeamMetrics>& metrics = run.metrics;
+  const int n = static_cast<int>(cell.truth.size());
+  plot::Canvas canvas(1100, 360 * n + 40);
+  for (int k = 0; k < n; ++k) {
+    std::vector<double> s, lat, ver;
+    for (const auto& smp : result.samples) {
+      if (smp.seam != k || smp.phase != tk::Phase::Weld) continue;
+      const PointError e = seam_error(cell.truth[k], smp.world_from_tool.translation());
+      s.push_back(smp.s_mm);
+      lat.push_back(e.lateral_mm);
+      ver.push_back(e.vertical_mm);
+    }
+    // Scaled to the errors (the targets, 0.1 mm rms and 0.3 mm max, are
+    // drawn when they fit).
+    double lim = 0.01;
+    for (double v : lat) lim = std::max(lim, 1.25 * std::abs(v));
+    for (double v : ver) lim = std::max(lim, 1.25 * std::abs(v));
+    const double len = std::max(10.0, s.empty() ? cell.truth[k].length() : s.back());
+    const int top = 20 + 360 * k;
+    plot::Chart chart(canvas, 90, top + 40, 1070, top + 300, 0.0, len, -lim, lim);
+    chart.frame("seam " + std::to_string(k + 1) + ": TCP error from the true seam", "s [mm] along the weld",
+                "error [mm]");
+    const plot::Rgb grey{150, 150, 150}, blue{30, 90, 200}, orange{230, 120, 20};
+    chart.polyline({0.0, len}, {0.0, 0.0}, grey);
+    for (double target : {0.1, 0.3})
+      if (target < lim) {
+        chart.polyline({0.0, len}, {target, target}, grey);
+        chart.polyline({0.0, len}, {-target, -target}, grey);
+      }
+    chart.polyline(s, lat, blue, 2);
+    chart.polyline(s, ver, orange, 2);
+    const SeamMetrics& m = metrics[k];
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "rms lateral %.4f mm   rms vertical %.4f mm   max %.4f mm   start error %.3f mm   end error "
+                  "%.3f mm   search %.1f mm",
+                  m.rms_lateral_mm, m.rms_vertical_mm, m.max_error_mm, m.start_error_mm, m.end_error_mm,
+                  m.search_mm);
+    canvas.text(90, top + 334, line, {40, 40, 40});
+    canvas.text(90, top + 348,
+                "blue: lateral (in the plate, towards the open side)   orange: vertical (along the plate normal)",
+                {40, 40, 40});
+  }
+  return canvas;
+}
+
+trackio::Json seam_metrics_json(const SeamMetrics& m, int index) {
+  trackio::Json j;
+  j["seam"] = index + 1;
+  j["rms_lateral_mm"] = m.rms_lateral_mm;
+  j["rms_vertical_mm"] = m.rms_vertical_mm;
+  j["max_error_mm"] = m.max_error_mm;
+  j["start_error_mm"] = m.start_error_mm;
+  j["end_error_mm"] = m.end_error_mm;
+  j["start_along_mm"] = m.start_along_mm;
+  j["end_along_mm"] = m.end_along_mm;
+  j["search_mm"] = m.search_mm;
+  j["welded_mm"] = m.welded_mm;
+  j["start_found"] = m.start_found;
+  j["end_found"] = m.end_found;
+  j["lost"] = m.lost;
+  j["failure"] = m.failure;
+  j["sensor_rms_mm"] = m.sensor_rms_mm;
+  j["points"] = m.points;
+  j["rejected_points"] = m.rejected_points;
+  j["refits"] = m.refits;
+  return j;
+}
+
+ProfileSpool::ProfileSpool(const fs::path& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+  if (!out_) throw std::runtime_error("cannot create " + path.string());
+}
+
+ProfileSpool::~ProfileSpool() {
+  std::error_code ec;
+  out_.close();
+  fs::remove(path_, ec);
+}
+
+void ProfileSpool::add(const Profile& p) {
+  put(out_, p.index);
+  put(out_, p.time_s);
+  const Eigen::Matrix4d m = p.world_from_sensor.matrix();
+  out_.write(reinterpret_cast<const char*>(m.data()), sizeof(double) * 16);
+  for_each_column(p, [&](const auto& v) {
+    out_.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof v[0]));
+  });
+  ++count_;
+  points_ = p.size();
+}
+
+void ProfileSpool::write_exr(const fs::path& exr, ProfileFileInfo info) {
+  out_.close();
+  info.profiles = count_;
+  ProfileExrWriter writer(exr, info);
+  std::ifstream in(path_, std::ios::binary);
+  Profile p;
+  p.resize(points_);
+  for (int i = 0; i < count_; ++i) {
+    get(in, p.index);
+    get(in, p.time_s);
+    Eigen::Matrix4d m;
+    in.read(reinterpret_cast<char*>(m.data()), sizeof(double) * 16);
+    p.world_from_sensor.matrix() = m;
+    for_each_column(p, [&](auto& v) {
+      in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof v[0]));
+    });
+    if (!in) throw std::runtime_error("cannot read back the profile spool " + path_.string());
+    writer.write(p);
+  }
+  writer.finish();
+}
+
+}  // namespace vts

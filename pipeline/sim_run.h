@@ -1,0 +1,86 @@
+#pragma once
+// The paper's dynamic experiment (docs/SIM.md) as one call: the box cell
+// displaced from its nominal pose, the virtual sensor (or a recording of
+// one) behind the sensor interface, the master welding both seams, and the
+// tracking error against the true seams; with its outputs as text and
+// figures. `vts sim` and `vts-view --sim` run it.
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pipeline/scan_session.h"
+#include "plot/plot.h"
+#include "sensor/profile.h"
+#include "sensor/profile_exr.h"
+#include "sensor/scanner.h"
+#include "sensor/sim_cell.h"
+#include "tracker/master.h"
+#include "trackio/result_json.h"
+
+namespace vts {
+
+inline constexpr double kDefaultSimSpeedMmS = 10.0;
+
+struct SimSpec {
+  SimCellParams cell;      // the box and its displacement (cell.seed); standoff_mm for the scanner
+  ScannerDesc scanner;     // the sensor; its mount (tool_from_laser) comes from the cell
+  double speed_mm_s = kDefaultSimSpeedMmS;  // weld and search speed
+  SourceKind source = SourceKind::Raster;
+  std::uint64_t seed = 1;  // the error model's draws
+  // Not empty: the master runs on this recording (the profiles.exr of an
+  // earlier run) instead of the virtual sensor, at the recording's rate.
+  std::filesystem::path replay;
+};
+
+struct SimRun {
+  SimCell cell;
+  ScannerDesc scanner;      // as run: the cell's mount, the recording's rate on a replay
+  std::string source_name;  // "raster", "reference" or "replay"
+  tracker::MasterResult result;
+  std::vector<SeamMetrics> metrics;  // per seam
+  std::int64_t profiles = 0;         // taken by the sensor
+
+  // Both seams welded to their ends without a failure.
+  bool completed() const;
+  double sim_time_s() const;
+  double offset_mm() const;     // actual workpiece pose from the nominal one
+  double rotation_deg() const;
+};
+
+// Runs the experiment; `record` sees every measured profile the virtual
+// sensor takes (not on a replay). Throws std::invalid_argument ("scanner:
+// ...") for an unusable scanner, ExrError for a bad recording, and as
+// make_source.
+SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record = {});
+
+// timeseries.csv (docs/SIM.md): time, torch pose, true seam point, errors.
+std::string sim_timeseries_csv(const SimRun& run);
+// tracking_error.png: lateral and vertical error along each seam.
+plot::Canvas sim_error_figure(const SimRun& run);
+// One seam's metrics as `vts sim --json` prints them.
+trackio::Json seam_metrics_json(const SeamMetrics& m, int index);
+
+// Profiles spooled to a scratch file as they are taken (an EXR needs its row
+// count up front), then written as one EXR; the scratch file goes with it.
+class ProfileSpool {
+ public:
+  explicit ProfileSpool(const std::filesystem::path& path);
+  ~ProfileSpool();
+  ProfileSpool(const ProfileSpool&) = delete;
+  ProfileSpool& operator=(const ProfileSpool&) = delete;
+  void add(const Profile& p);
+  int count() const { return count_; }
+  // info.profiles is set to count().
+  void write_exr(const std::filesystem::path& exr, ProfileFileInfo info);
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+  int count_ = 0;
+  int points_ = 0;
+};
+
+}  // namespace vts

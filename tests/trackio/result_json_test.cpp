@@ -1,0 +1,73 @@
+// TrackResult <-> JSON (trackio/result_json.h): the keys and rounding of
+// docs/CLI.md, and the way back.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "../tracker/synthetic.h"
+#include "tracker/tracker.h"
+#include "trackio/result_json.h"
+
+namespace {
+
+namespace tk = vts::tracker;
+using vts::trackio::Json;
+
+}  // namespace
+
+TEST_CASE("trackio json: a result written by hand", "[trackio]") {
+  tk::TrackResult r;
+  r.joint = tk::JointType::Butt;
+  r.status = tk::TrackStatus::Rejected;
+  r.reason = "gap 6 mm outside [0, 5]";
+  r.break_points[1] = tk::Vec2(-1.0000004, 100.25);
+  r.track_point = tk::Vec2(-0.0000001, 100.5);  // rounds to -0: written as 0
+  r.gap_mm = 6.0;
+  r.valid_points = 500;
+  r.outliers = 2;
+  tk::TrackResult::SegmentInfo single;
+  single.first_col = single.last_col = 7;
+  single.points = 1;
+  r.segments.push_back(single);
+  CHECK(vts::trackio::result_to_json_line(12, r) ==
+        R"({"profile":12,"joint":"butt","status":"rejected","reason":"gap 6 mm outside [0, 5]",)"
+        R"("break_points":[{"name":"B1","meaning":")" +
+            std::string(tk::break_point_name(tk::JointType::Butt, 1)) +
+            R"(","y":-1.0,"z":100.25}],"track_point":{"y":0.0,"z":100.5},"gap_mm":6.0,"gap_paper_mm":null,)"
+            R"("angle_deg":null,"mismatch_mm":null,"step_mm":null,"depth_mm":null,"area_mm2":null,)"
+            R"("edge_uncertainty_mm":0.0,"valid_points":500,"outliers":2,)"
+            R"("segments":[{"first":7,"last":7,"points":1,"line":null,"rms_mm":0.0}]})"
+            "\n");
+}
+
+TEST_CASE("trackio json: written, read back and written again gives the same text", "[trackio]") {
+  // A 90-degree fillet seen from 100 mm on its bisector.
+  const synth::Profile p = synth::sample(synth::valley(tk::Vec2(0.0, 100.0), 90.0));
+  tk::Tracker tracker;
+  const tk::TrackResult& r = tracker.track(p.view());
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const Json j = vts::trackio::result_to_json(3, r);
+  std::int64_t index = -1;
+  const tk::TrackResult back = vts::trackio::result_from_json(j, &index);
+  CHECK(index == 3);
+  CHECK(back.joint == r.joint);
+  CHECK(back.status == r.status);
+  CHECK(back.segments.size() == r.segments.size());
+  REQUIRE(back.track_point);
+  CHECK(std::abs(back.track_point->y() - 100.0) < 1e-5);
+  CHECK(std::isnan(back.step_mm));
+  CHECK(vts::trackio::result_to_json(3, back) == j);
+}
+
+TEST_CASE("trackio json: reading names the key that is missing or wrong", "[trackio]") {
+  tk::TrackResult r;
+  Json j = vts::trackio::result_to_json(0, r);
+  j.erase("gap_mm");
+  CHECK_THROWS_WITH(vts::trackio::result_from_json(j), "missing key 'gap_mm'");
+  j = vts::trackio::result_to_json(0, r);
+  j["joint"] = "tee";
+  CHECK_THROWS_WITH(vts::trackio::result_from_json(j), "'joint': 'tee' is not a joint");
+  j = vts::trackio::result_to_json(0, r);
+  j["valid_points"] = "many";
+  CHECK_THROWS_WITH(vts::trackio::result_from_json(j), "'valid_points': expected an integer");
+}
