@@ -543,7 +543,7 @@ TEST_CASE("vts mesh: a cell written as STL scans back through a scene file like 
   REQUIRE(stored.workpieces.size() == 1);
   CHECK(stored.workpieces[0].mesh_file == fs::canonical(dir.path / "parts/fillet.stl").string());
   fs::remove(dir.path / "parts/fillet.stl");
-  const Result t = run_vts(dir, "track m.exr");
+  const Result t = run_vts(dir, "track m.exr --independent");
   INFO(t.out << t.err);
   REQUIRE(t.code == 0);
   std::istringstream lines(t.out);

@@ -77,7 +77,7 @@ nlohmann::ordered_json point(double y, double z) {
   return nlohmann::ordered_json{{"y", y}, {"z", z}};
 }
 
-nlohmann::ordered_json truth_json(int profile, const vc::Truth& t) {
+nlohmann::ordered_json truth_json(int profile, const vc::Truth& t, bool ideal) {
   nlohmann::ordered_json j;
   j["profile"] = profile;
   j["joint"] = vc::joint_name(t.joint);
@@ -94,6 +94,8 @@ nlohmann::ordered_json truth_json(int profile, const vc::Truth& t) {
   j["decoy_point"] = point(t.decoy_y_mm, t.decoy_z_mm);
   j["tags"] = t.tags;
   j["noise_mm"] = t.noise_mm;
+  // A profile without imperfections and noise: the "ideal" row of a score table.
+  j["ideal"] = ideal && t.noise_mm == 0.0;
   j["columns"] = t.columns;
   j["standoff_mm"] = num(t.standoff_mm);
   j["seed"] = t.seed;
@@ -302,7 +304,7 @@ int run(int argc, char** argv) {
       append_csv(buf, k, p);
       csv->write(buf);
     }
-    if (truth) truth->write(truth_json(k, p.truth).dump() + "\n");
+    if (truth) truth->write(truth_json(k, p.truth, !options.imperfections).dump() + "\n");
     if (scene) scene->write(scene_json(k, *p.debug).dump() + "\n");
   }
   if (scene) scene->commit();
