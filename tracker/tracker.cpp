@@ -140,8 +140,8 @@ bool check(Candidate& c, const char* name, double v, const Range& r, const char*
 class Matcher {
  public:
   Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
-          std::vector<int>& bevels, std::vector<std::uint8_t>& off_plates)
-      : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), off_plates_(off_plates),
+          std::vector<int>& bevels, std::vector<std::uint8_t>& off_plates, std::vector<int>& next_long)
+      : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), off_plates_(off_plates), next_long_(next_long),
         origin_(p.segmentation.ray_origin_yz), tol_(p.surface_tol_mm),
         sigma_(std::max(p.surface_tol_mm / std::max(1.0, p.noise.surface_k), 1e-6)) {
     // Columns that look like a ray into a gap (events_between): invalid, or
@@ -153,11 +153,15 @@ class Matcher {
     const int s_min = std::max(2, p.segmentation.segments.min_segment_points);
     int prev_long = -1;  // last long segment before the point at hand
     std::size_t next_seg = 0;
+    // next_long[k]: the first long segment from segment k on (-1: none).
+    next_long_.assign(s.segments.size() + 1, -1);
+    for (int k = static_cast<int>(s.segments.size()) - 1; k >= 0; --k)
+      next_long_[k] = s.segments[k].count() >= s_min ? k : next_long_[k + 1];
     auto behind = [&](const Vec2& q, int col) {
       const Segment* before = prev_long >= 0 ? &s.segments[prev_long] : nullptr;
       const Segment* after = nullptr;
-      for (std::size_t k = next_seg; k < s.segments.size() && !after; ++k)
-        if (s.segments[k].count() >= s_min && s.segments[k].first_col > col) after = &s.segments[k];
+      for (int k = next_long_[next_seg]; k >= 0 && !after; k = next_long_[k + 1])
+        if (s.segments[k].first_col > col) after = &s.segments[k];
       const Segment* near = !before ? after
                             : !after ? before
                                      : (col - before->last_col <= after->first_col - col ? before : after);
@@ -210,6 +214,7 @@ class Matcher {
   std::vector<Vec2>& scratch_;
   std::vector<int>& bevels_;
   std::vector<std::uint8_t>& off_plates_;  // per column: looks like a ray into a gap (events_between)
+  std::vector<int>& next_long_;            // scratch of the constructor
   Vec2 origin_;
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
@@ -331,10 +336,12 @@ class Matcher {
     // line continued and the fit to the plates' points in it (not that fit
     // alone: a few points of a gap or a bead pull it off).
     // The plates' points there (a plate's index range can hold a short
-    // piece off its line: a reflection cluster).
+    // piece off its line: a reflection cluster), every stride-th (about 48 a
+    // side on dense profiles).
+    const int stride = std::max(1, std::max(c.pa.last - w0, w1 - c.pb.first) / 48);
     auto on_plate = [&](int from, int to, const Line& l) {
       PointSums ps;
-      for (int i = from; i <= to; ++i)
+      for (int i = from; i <= to; i += stride)
         if (l.distance(pt(i)) <= 2.0 * tol_) ps.add(pt(i) - s_.ref_);
       return ps;
     };
@@ -380,8 +387,9 @@ class Matcher {
     double r0[3] = {0.0, 0.0, 0.0}, r1 = 0.0, event = 0.0;
     int into = 0;   // rays into the open joint that found something
     int stray = 0;  // points between the plates of an open joint that fit nothing of it
-    auto weigh_point = [&](const Vec2& q, bool between) {
-      ++ev.points;
+    // Each point counts `w` times (the plates' points are sampled, below).
+    auto weigh_point = [&](const Vec2& q, bool between, int w = 1) {
+      ev.points += w;
       const double da = c.pa.line.signed_distance(q), db = c.pb.line.signed_distance(q);
       // A ray into the joint: between the plates' ends, inside the opening,
       // behind a plate (the higher plate's edge face stands in front of the
@@ -392,15 +400,19 @@ class Matcher {
       }
       double d = std::min(la.distance(q), lb.distance(q));
       for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q));
-      if (d > tol_) ++ev.unexplained;
+      if (d > tol_) ev.unexplained += w;
       if (between && c.open_joint && d > tol_) {
         ++stray;  // weighed below as a random event under either reading
         return;
       }
-      for (int k = 0; k < 3; ++k) r0[k] += rho(nulls[k].distance(q));
-      r1 += rho(d);
+      for (int k = 0; k < 3; ++k) r0[k] += w * rho(nulls[k].distance(q));
+      r1 += w * rho(d);
     };
-    for (int i = w0; i <= w1; ++i) weigh_point(pt(i), i > c.pa.last && i < c.pb.first);
+    // The plates' points beside the joint, every stride-th, weighted;
+    // everything between the plates' ends.
+    for (int i = c.pa.last; i >= w0; i -= stride) weigh_point(pt(i), false, std::min(stride, i - w0 + 1));
+    for (int i = c.pa.last + 1; i < c.pb.first && i <= w1; ++i) weigh_point(pt(i), true);
+    for (int i = c.pb.first; i <= w1; i += stride) weigh_point(pt(i), false, std::min(stride, w1 - i + 1));
     const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
     for (const Vec2& o : outliers_between(s_.cols[w0], s_.cols[w1])) {
       // Removed points count between the plates' ends only (elsewhere they
@@ -1707,7 +1719,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     return;
   }
   Candidate best;
-  Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_);
+  Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_, next_long_);
   if (!m.run(params_.joint, best, prior)) {
     if (prior && std::isfinite(m.outside_mm())) {
       std::snprintf(buf, sizeof buf, "no joint within %.3g mm of the predicted point (nearest reading %.3g mm away)",

@@ -123,6 +123,7 @@ class Tracker {
   std::vector<Vec2> scratch_;
   std::vector<int> bevels_;
   std::vector<std::uint8_t> off_plates_;
+  std::vector<int> next_long_;
   std::vector<std::pair<double, int>> rms_;
 };
 
