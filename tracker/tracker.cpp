@@ -617,8 +617,12 @@ class Matcher {
   std::optional<Pair> pair_of(int i, int j) const { return pair_of(plate_of(s_.segments[i]), plate_of(s_.segments[j])); }
   // Plates a and b (a first in scan order) as a pair.
   std::optional<Pair> pair_of(const Plate& a, const Plate& b) const {
+    if (!near_enough(a, b)) return std::nullopt;
+    return meet(a, b);
+  }
+  // Plates a and b as a pair wherever their lines meet (at more than 5 degrees).
+  std::optional<Pair> meet(const Plate& a, const Plate& b) const {
     Pair pr{a, b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
-    if (!near_enough(pr.a, pr.b)) return std::nullopt;
     const auto x = intersect(pr.a.line, pr.b.line, std::sin(5.0 * kDeg));
     if (!x) return std::nullopt;
     pr.x = *x;
@@ -1378,14 +1382,8 @@ class Matcher {
     if (a_last == pr.a.last && b_first == pr.b.first) return pr;
     const auto a = plate_of(pr.a.first, a_last), b = plate_of(b_first, pr.b.last);
     if (!a || !b) return std::nullopt;
-    Pair out{*a, *b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
-    const auto x = intersect(out.a.line, out.b.line, std::sin(5.0 * kDeg));
-    if (!x) return std::nullopt;
-    out.x = *x;
-    out.ua = (out.a.centroid - out.x).normalized();
-    out.ub = (out.b.centroid - out.x).normalized();
-    out.valley = (out.ua + out.ub).dot(origin_ - out.x) > 0.0;
-    out.trimmed = true;
+    auto out = meet(*a, *b);
+    if (out) out->trimmed = true;
     return out;
   }
 
