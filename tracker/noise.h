@@ -16,7 +16,7 @@ namespace vts::tracker {
 // reflections and dropouts touch few such runs, so the median absolute value
 // is taken: sigma = median / (0.6745 sqrt(1.5)). Spread over at most
 // kNoiseSamples runs. 0 when fewer than 8 runs exist.
-inline constexpr int kNoiseSamples = 128;
+inline constexpr int kNoiseSamples = 96;
 double estimate_noise_mm(const ProfileView& profile, int roi_first = 0, int roi_last = -1);
 
 // The parameters the tracker runs with on a profile of noise sigma_mm (1

@@ -183,10 +183,18 @@ class Matcher {
     for (; o < s.outlier_cols.size(); ++o) off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
     for (int col = 0; col < n; ++col)
       if (s.column_state[col] == kColumnInvalid) off_plates_[col] = kInvalidEvent;
+    // The events of both kinds in one pass (events_between counts one kind).
     if (!s.cols.empty()) {
       span_ = s.cols.back() - s.cols.front() - 1;
-      for (const std::uint8_t type : {kPointEvent, kInvalidEvent})
-        events_[type - 1] = events_between(s.cols.front(), s.cols.back(), type, &gone_[type - 1]);
+      std::uint8_t prev = 0;
+      for (int col = s.cols.front() + 1; col < s.cols.back(); ++col) {
+        const std::uint8_t k = off_plates_[col];
+        if (k != 0) {
+          ++gone_[k - 1];
+          events_[k - 1] += k != prev;
+        }
+        prev = k;
+      }
     }
   }
 
