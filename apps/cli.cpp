@@ -1,5 +1,7 @@
 #include "apps/cli.h"
 
+#include "common/parallel.h"
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -75,6 +77,18 @@ Vec3 parse_vec3(const std::string& option, const std::string& text, const char* 
     v[i] = x;
   }
   return v;
+}
+
+void apply_thread_limit(const std::string& option_text) {
+  if (!option_text.empty()) {
+    set_thread_limit(static_cast<int>(parse_integer("--threads", option_text, 1, 1024)));
+    return;
+  }
+  try {
+    thread_limit_from_environment();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
 }
 
 SourceKind parse_source(const std::string& option, const std::string& text) {

@@ -40,6 +40,15 @@ double parse_positive(const std::string& option, const std::string& text, const 
 long long parse_integer(const std::string& option, const std::string& text, long long lo, long long hi);
 std::uint64_t parse_seed(const std::string& option, const std::string& text);
 Vec3 parse_vec3(const std::string& option, const std::string& text, const char* unit);
+// --threads (docs/CLI.md): the thread limit (common/parallel.h) from the
+// option's text, or, when empty, checks VTS_THREADS; UsageError naming the
+// option or the variable and the value. Call before any work.
+void apply_thread_limit(const std::string& option_text);
+// The --threads option's help text.
+inline constexpr const char* kThreadsHelp =
+    "Most threads to work with, >= 1 (default: $VTS_THREADS, else every hardware thread; never more than the "
+    "hardware has). The output does not depend on it";
+
 // "raster" or "reference".
 SourceKind parse_source(const std::string& option, const std::string& text);
 

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/parallel.h"
 #include "sensor/presets.h"
 #include "viewer/window.h"
 
@@ -91,6 +92,12 @@ int run(int argc, char** argv) {
   cli.add_flag("--fps", o.fps,
                "Print the frame rate at exit (frames after the first 10); the simulation then runs on "
                "real time with scans in the background, as interactively");
+  std::optional<int> threads;
+  cli.add_option("--threads", threads,
+                 "Most threads the scans work with (default: $VTS_THREADS, else every hardware thread; never "
+                 "more than the hardware has); the window's thread comes on top")
+      ->type_name("N")
+      ->check(CLI::Range(1, 1024));
 
   try {
     cli.parse(argc, argv);
@@ -117,6 +124,10 @@ int run(int argc, char** argv) {
         throw UsageError("--material = '" + o.material + "': unknown material; valid names: " +
                          vts::join_names(vts::material_names()));
     }
+    if (threads)
+      vts::set_thread_limit(*threads);
+    else
+      vts::thread_limit_from_environment();  // throws std::invalid_argument for a bad value
     if (o.frames && *o.frames < static_cast<int>(script.size()))
       throw UsageError("--frames = " + std::to_string(*o.frames) + ": the --keys script needs " +
                        std::to_string(script.size()) + " frames");

@@ -10,6 +10,7 @@
 #include "apps/cli.h"
 #include "sensor/cell.h"
 #include "sensor/mesh_file.h"
+#include "sensor/presets.h"
 #include "sensor/scene_file.h"
 
 namespace vts::apps {
@@ -26,12 +27,6 @@ struct MeshOptions {
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-std::string cell_names() {
-  std::string s;
-  for (const auto& n : builtin_cell_names()) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
 
 int run_mesh(const MeshOptions& o) {
   // Everything is checked before anything is written.
@@ -57,7 +52,8 @@ int run_mesh(const MeshOptions& o) {
     label = o.cell.empty() ? std::string(kDefaultCell) : o.cell;
     auto builtin = builtin_cell(label);
     if (!builtin)
-      throw InputError("--cell = '" + label + "': unknown cell; valid names: " + cell_names() + " (see `vts cells`)");
+      throw InputError("--cell = '" + label + "': unknown cell; valid names: " + join_names(builtin_cell_names()) +
+                       " (see `vts cells`)");
     cell = std::move(*builtin);
   }
 

@@ -21,12 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string names_list() {
-  std::string s;
-  for (const auto& n : builtin_cell_names()) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
 // File-name-safe version of a cell name for the default output file.
 std::string file_stem_for(const std::string& name) {
   std::string s = name;
@@ -55,7 +49,7 @@ ScanPlan plan_scan(const ScanOptions& o) {
   } else {
     const std::string name = o.cell.empty() ? std::string(kDefaultCell) : o.cell;
     auto cell = builtin_cell(name);
-    if (!cell) bad("--cell", name, "unknown cell; valid names: " + names_list() + " (see `vts cells`)");
+    if (!cell) bad("--cell", name, "unknown cell; valid names: " + join_names(builtin_cell_names()) + " (see `vts cells`)");
     spec.cell = std::move(*cell);
     spec.scene_label = name;
   }
@@ -134,6 +128,7 @@ ScanPlan plan_scan(const ScanOptions& o) {
     if (dir == dir.root_path()) break;
   }
   plan.out = out;
+  apply_thread_limit(o.threads);
   return plan;
 }
 
@@ -239,6 +234,7 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
                    "Which source fills the main channels: raster (OSMesa emulator, default) or "
                    "reference (Embree ray caster)")
       ->type_name("raster|reference");
+  scan->add_option("--threads", o.threads, kThreadsHelp)->type_name("N");
   return scan;
 }
 

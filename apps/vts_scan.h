@@ -27,6 +27,7 @@ struct ScanOptions {
   std::string material;
   std::string out;
   std::string source;
+  std::string threads;
   bool reference = false;
   bool ideal = false;
 };

@@ -25,7 +25,7 @@ using cli::bad;
 using Json = trackio::Json;
 
 struct SimOptions {
-  std::string speed, rate, seed, offset, rotation, source, sensor, material, out_dir, replay;
+  std::string speed, rate, seed, offset, rotation, source, sensor, material, out_dir, replay, threads;
   bool ideal = false;
   bool json = false;
 };
@@ -86,6 +86,7 @@ SimPlan plan_sim(const SimOptions& o) {
     spec.replay = o.replay;
     if (!fs::is_regular_file(spec.replay, ec)) bad("--replay", o.replay, "no such file");
   }
+  cli::apply_thread_limit(o.threads);
   return plan;
 }
 
@@ -194,6 +195,7 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
                   "move as it did then (same --speed); errors are measured against the cell of --seed, --offset and "
                   "--rotation, so give the recorded run's (no profiles.exr is written)")
       ->type_name("FILE.exr");
+  cmd->add_option("--threads", o->threads, cli::kThreadsHelp)->type_name("N");
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
   cmd->callback([o, &exit_code] {
     try {

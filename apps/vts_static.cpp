@@ -21,6 +21,7 @@ struct StaticOptions {
   std::string profiles = "10";
   std::string seed;
   std::string source = "raster";
+  std::string threads;
   bool ideal = false;
 };
 
@@ -40,6 +41,7 @@ int run_static(const StaticOptions& o) {
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) cli::bad("--out-dir", o.out_dir, "exists and is not a directory");
   }
+  cli::apply_thread_limit(o.threads);
 
   // Scan and track everything first: a failure leaves no files behind.
   const StaticResult result = run_static_experiment(spec);
@@ -83,6 +85,7 @@ CLI::App* add_static_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--source", o->source,
                   "Profile source: raster (OSMesa emulator, default) or reference (Embree ray caster)")
       ->type_name("raster|reference");
+  cmd->add_option("--threads", o->threads, cli::kThreadsHelp)->type_name("N");
   cmd->callback([o, &exit_code] {
     try {
       exit_code = run_static(*o);

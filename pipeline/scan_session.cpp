@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
+#include "common/parallel.h"
 #include "render/raster_source.h"
 #include "sensor/reference_source.h"
 
@@ -54,21 +54,17 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
   // The draws are keyed by profile index, so both sources see the same ones
   // and splitting a batch over threads changes nothing; each part has its
   // own state (scratch and counters, summed by counts()).
-  const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 16u));
-  const int parts = std::clamp(static_cast<int>(count) / 64, 1, threads);
-  while (states_.size() < static_cast<std::size_t>(parts)) {
+  const std::size_t parts = std::clamp<std::size_t>(count / 64, 1, static_cast<std::size_t>(thread_limit()));
+  while (states_.size() < parts) {
     states_.emplace_back().seed = seed_;
     states_ref_.emplace_back().seed = seed_;
   }
-  auto run = [&](int t, std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) {
+  parallel_for(parts, [&](std::size_t t) {
+    for (std::size_t k = count * t / parts, end = count * (t + 1) / parts; k < end; ++k) {
       apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
       if (reference_) apply_error_model(scanner_, out.ideal_ref[k], states_ref_[t], out.measured_ref[k]);
     }
-  };
-  std::vector<std::jthread> helpers;
-  for (int t = 1; t < parts; ++t) helpers.emplace_back(run, t, count * t / parts, count * (t + 1) / parts);
-  run(0, 0, count / parts);
+  });
 }
 
 ScanState ScanSession::counts() const {

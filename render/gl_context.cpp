@@ -8,6 +8,11 @@
 
 namespace vts {
 
+namespace {
+// The context of ours current on this thread (as far as we made it so).
+thread_local GlContext::Impl* t_current = nullptr;
+}  // namespace
+
 struct GlContext::Impl {
   OSMesaContext context = nullptr;
   // OSMesa needs a bound colour buffer; all real rendering goes to FBOs.
@@ -19,19 +24,33 @@ struct GlContext::Impl {
     if (!context) return;
     // Unbind first so this thread is not left with a dangling current context.
     if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+    if (t_current == this) t_current = nullptr;
     // Frees every GL object the context still owns.
     OSMesaDestroyContext(context);
   }
 };
 
 namespace {
+
+// Makes `impl` current on this thread, or none when null.
+void bind(GlContext::Impl* impl) {
+  if (!impl) {
+    if (OSMesaGetCurrentContext()) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+  } else if (OSMesaGetCurrentContext() != impl->context &&
+             !OSMesaMakeCurrent(impl->context, impl->dummy.data(), GL_UNSIGNED_BYTE, 1, 1)) {
+    throw std::runtime_error("GlContext: OSMesaMakeCurrent failed");
+  }
+  t_current = impl;
+}
+
 std::string gl_string(GLenum name) {
   const auto* s = reinterpret_cast<const char*>(glGetString(name));
   return s ? std::string(s) : std::string();
 }
 }  // namespace
 
-GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
+GlContext::GlContext(After after) : impl_(std::make_unique<Impl>()) {
+  Impl* const previous = t_current;
   const int attribs[] = {OSMESA_FORMAT,       OSMESA_RGBA,
                          OSMESA_DEPTH_BITS,   0,
                          OSMESA_STENCIL_BITS, 0,
@@ -53,6 +72,7 @@ GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
     throw std::runtime_error(
         "GlContext: glGetString(GL_VERSION) returned NULL with a current OSMesa context; "
         "libOSMesa must come before libGL/libOpenGL on the link line");
+  if (after == After::Previous) bind(previous);
 }
 
 GlContext::~GlContext() = default;
@@ -61,9 +81,18 @@ GlContext& GlContext::operator=(GlContext&&) noexcept = default;
 
 void GlContext::make_current() {
   if (!impl_ || !impl_->context) throw std::runtime_error("GlContext: used after move");
-  if (OSMesaGetCurrentContext() == impl_->context) return;
-  if (!OSMesaMakeCurrent(impl_->context, impl_->dummy.data(), GL_UNSIGNED_BYTE, 1, 1))
-    throw std::runtime_error("GlContext: OSMesaMakeCurrent failed");
+  bind(impl_.get());
+}
+
+GlContext::Binding::Binding(GlContext& context) : previous_(t_current) { context.make_current(); }
+
+GlContext::Binding::~Binding() {
+  try {
+    bind(previous_);
+  } catch (...) {
+    // Re-binding a context that worked before cannot fail short of a
+    // broken driver; nothing better to do in a destructor.
+  }
 }
 
 bool GlContext::is_current() const {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <condition_variable>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -19,12 +18,12 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "common/parallel.h"
 #include "render/gl_context.h"
 #include "sensor/error_model.h"
 #include "sensor/mesh_bvh.h"
@@ -49,7 +48,7 @@ constexpr double kCullMarginMm = 0.01;
 constexpr int kMaxRowsPerPass = 256;
 // Profiles with parallel laser planes culled by one hierarchy query.
 constexpr int kCullBlock = 16;
-// Worker threads (each with its own OpenGL context) per source.
+// Most parts a batch is split into (each with its own OpenGL context).
 constexpr int kMaxThreads = 16;
 // Below this many profiles per worker a batch is not split further.
 constexpr std::size_t kMinProfilesPerThread = 32;
@@ -733,7 +732,9 @@ class ShadowTester {
 // time. A pass scans up to rows() profiles with one draw.
 class Worker {
  public:
-  Worker(const SharedScene& scene, int max_rows) : s_(scene), shadow_(scene) {
+  Worker(const SharedScene& scene, int max_rows)
+      : s_(scene), context_(GlContext::After::Previous), shadow_(scene) {
+    const GlContext::Binding bind(context_);
     const int n = s_.desc.points;
     GLint max_rb = 0, max_vp[2] = {0, 0};
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
@@ -797,12 +798,14 @@ class Worker {
     // The context is private to this worker, so all this state stays bound.
   }
 
-  // GL objects go with the context (GlContext's destructor).
+  // GL objects go with the context (GlContext's destructor), which is
+  // current nowhere between scans.
   ~Worker() = default;
 
-  // Scans poses[i] into out[i], rows_ profiles per pass.
+  // Scans poses[i] into out[i], rows_ profiles per pass, with the context
+  // current on the calling thread for the call only.
   void scan(std::span<const Pose> poses, std::span<Profile> out) {
-    context_.make_current();
+    const GlContext::Binding bind(context_);
     for (std::size_t first = 0; first < poses.size(); first += static_cast<std::size_t>(rows_)) {
       const std::size_t count = std::min<std::size_t>(rows_, poses.size() - first);
       pass(poses.subspan(first, count), out.subspan(first, count));
@@ -1164,66 +1167,6 @@ class Worker {
   GLuint colour_rb_ = 0, depth_rb_ = 0, fbo_ = 0;
 };
 
-// A thread that runs one job at a time for its owner.
-class JobThread {
- public:
-  JobThread() : thread_([this] { loop(); }) {}
-  ~JobThread() {
-    {
-      std::lock_guard lock(mutex_);
-      quit_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-  }
-  JobThread(const JobThread&) = delete;
-  JobThread& operator=(const JobThread&) = delete;
-
-  void submit(std::function<void()> job) {
-    {
-      std::lock_guard lock(mutex_);
-      job_ = std::move(job);
-      done_ = false;
-      error_ = nullptr;
-    }
-    cv_.notify_all();
-  }
-  // Waits for the submitted job; rethrows what it threw.
-  void wait() {
-    std::unique_lock lock(mutex_);
-    cv_.wait(lock, [&] { return done_; });
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-  }
-
- private:
-  void loop() {
-    std::unique_lock lock(mutex_);
-    for (;;) {
-      cv_.wait(lock, [&] { return quit_ || job_; });
-      if (!job_) return;
-      std::function<void()> job = std::exchange(job_, nullptr);
-      lock.unlock();
-      std::exception_ptr error;
-      try {
-        job();
-      } catch (...) {
-        error = std::current_exception();
-      }
-      lock.lock();
-      error_ = error;
-      done_ = true;
-      cv_.notify_all();
-    }
-  }
-
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::function<void()> job_;
-  bool done_ = true, quit_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;  // last: starts after the state above exists
-};
-
 class RasterSource final : public ProfileSource {
  public:
   RasterSource(const ScannerDesc& desc, const Mesh& mesh_world, const RasterOptions& options)
@@ -1245,69 +1188,54 @@ class RasterSource final : public ProfileSource {
     s.mesh = prepare(mesh_world, options.merge_planar);
 
     rows_ = std::clamp(options.rows_per_pass, 1, kMaxRowsPerPass);
-    int threads = options.threads;
-    if (threads <= 0) threads = static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::clamp(threads, 1, kMaxThreads);
-    workers_.resize(static_cast<std::size_t>(threads));
-    // The first worker runs on the caller's thread and is built now, so a GL
-    // or shader failure shows at construction.
-    workers_[0] = std::make_unique<Worker>(s, rows_);
-    for (int t = 1; t < threads; ++t) threads_.push_back(std::make_unique<JobThread>());
-  }
-
-  ~RasterSource() override {
-    // A worker's context is destroyed on the thread it was current on.
-    for (std::size_t t = 0; t < threads_.size(); ++t) {
-      if (!workers_[t + 1]) continue;
-      threads_[t]->submit([this, t] { workers_[t + 1].reset(); });
-      try {
-        threads_[t]->wait();
-      } catch (...) {
-      }
-    }
+    const int limit = thread_limit();
+    max_parts_ = static_cast<std::size_t>(std::min(options.threads > 0 ? std::min(options.threads, limit) : limit,
+                                                   kMaxThreads));
+    workers_.resize(static_cast<std::size_t>(limit) + 1);
+    // One worker is built now, so a GL or shader failure shows at
+    // construction; the first thread to need one takes it.
+    spare_ = std::make_unique<Worker>(s, rows_);
   }
 
   void scan(const Pose& world_from_sensor, Profile& out) override {
-    workers_[0]->scan(std::span(&world_from_sensor, 1), std::span(&out, 1));
+    worker().scan(std::span(&world_from_sensor, 1), std::span(&out, 1));
   }
 
+  // Parts of a batch go to the arena's threads (common/parallel.h), each
+  // with the worker of its slot; errors come back as exceptions.
   void scan_batch(std::span<const Pose> poses, std::span<Profile> out) override {
     const std::size_t total = std::min(poses.size(), out.size());
-    const std::size_t parts =
-        std::clamp<std::size_t>(total / kMinProfilesPerThread, 1, workers_.size());
+    const std::size_t parts = std::clamp<std::size_t>(total / kMinProfilesPerThread, 1, max_parts_);
     const std::size_t per = (total + parts - 1) / parts;
-    for (std::size_t t = 1; t < parts; ++t) {
+    parallel_for(parts, [&](std::size_t t) {
       const std::size_t first = std::min(total, t * per);
       const std::size_t count = std::min(total, first + per) - first;
-      threads_[t - 1]->submit([this, t, first, count, poses, out] {
-        if (!workers_[t]) workers_[t] = std::make_unique<Worker>(*scene_, rows_);
-        workers_[t]->scan(poses.subspan(first, count), out.subspan(first, count));
-      });
-    }
-    std::exception_ptr error;
-    try {
-      workers_[0]->scan(poses.first(std::min(total, per)), out.first(std::min(total, per)));
-    } catch (...) {
-      error = std::current_exception();
-    }
-    for (std::size_t t = 1; t < parts; ++t) {
-      try {
-        threads_[t - 1]->wait();
-      } catch (...) {
-        if (!error) error = std::current_exception();
-      }
-    }
-    if (error) std::rethrow_exception(error);
+      if (count > 0) worker().scan(poses.subspan(first, count), out.subspan(first, count));
+    });
   }
 
   const ScannerDesc& scanner() const override { return scene_->desc; }
   std::string_view kind() const override { return "raster"; }
 
  private:
+  // The calling thread's worker: per arena slot (thread_slot() + 1; 0 for a
+  // caller outside any parallel loop), built when first needed.
+  Worker& worker() {
+    std::unique_ptr<Worker>& w = workers_[static_cast<std::size_t>(thread_slot() + 1)];
+    if (!w) {
+      std::lock_guard lock(spare_mutex_);
+      w = std::move(spare_);
+    }
+    if (!w) w = std::make_unique<Worker>(*scene_, rows_);
+    return *w;
+  }
+
   std::unique_ptr<SharedScene> scene_;  // read by the workers; outlives them
   int rows_ = 1;
-  std::vector<std::unique_ptr<Worker>> workers_;    // [0] on the caller's thread
-  std::vector<std::unique_ptr<JobThread>> threads_;  // run workers_[1..]
+  std::size_t max_parts_ = 1;                     // most parts a batch is split into
+  std::vector<std::unique_ptr<Worker>> workers_;  // per slot, see worker()
+  std::unique_ptr<Worker> spare_;                 // built with the source, not yet taken
+  std::mutex spare_mutex_;
 };
 
 }  // namespace

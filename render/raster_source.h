@@ -23,9 +23,12 @@
 // to the camera, each intersected exactly with each sight line
 // (docs/SENSOR_MODEL.md).
 //
-// A batch is split over `threads` workers, each with its own OSMesa context
-// on its own thread. No allocation per profile once the scratch has grown to
-// the largest pass.
+// A batch is split into parts that run on the thread limit's threads
+// (common/parallel.h), each part on the worker of its thread's slot: an
+// OSMesa context of its own with its pipeline and scratch, made current for
+// that part only (oneTBB moves work between threads; a context current
+// nowhere between uses can follow it, and be destroyed on any thread). No
+// allocation per profile once the scratch has grown to the largest pass.
 #include <memory>
 
 #include "sensor/mesh.h"
@@ -35,9 +38,9 @@
 namespace vts {
 
 struct RasterOptions {
-  // Workers for scan_batch (each its own OpenGL context; the first runs on
-  // the calling thread, the others on threads of their own, started with the
-  // source and given contexts on first use). 0: one per hardware thread.
+  // Most parts scan_batch splits a batch into, each on its own thread with
+  // its own OpenGL context (built on first use). 0: the thread limit
+  // (common/parallel.h); never more than it.
   int threads = 0;
   // Profiles per draw (at most 256).
   int rows_per_pass = 256;
@@ -51,8 +54,10 @@ struct RasterOptions {
 // Builds a source over a copy of mesh_world (world frame, mm); the mesh is
 // uploaded once, GL objects are created once and reused by every scan().
 // One source may be used by one thread at a time; separate sources may run on
-// separate threads. scan() runs on the calling thread; scan_batch() splits
-// batches of 64 profiles or more over the workers.
+// separate threads; a source may be destroyed on any thread. scan() runs on
+// the calling thread; scan_batch() splits batches of 64 profiles or more over
+// the thread limit's threads, and a part's failure comes back as its
+// exception.
 // Throws std::invalid_argument if validate(desc) fails or a triangle indexes
 // past the vertex list, std::runtime_error if the GL context or a shader fails.
 // Zero-area triangles are skipped; back faces are not culled.

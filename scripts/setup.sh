@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libosmesa6-dev libglm-dev libglfw3-dev libeigen3-dev
-  libopenexr-dev openexr libembree-dev
+  libopenexr-dev openexr libembree-dev libtbb-dev
   catch2 libbenchmark-dev
   libimgui-dev libstb-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libassimp-dev libpng-dev xvfb xauth

@@ -2,6 +2,7 @@
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
+#include <IlmThreadPool.h>
 #include <ImfThreading.h>
 #include <ImfHeader.h>
 #include <iterator>
@@ -21,8 +22,12 @@
 #include <fstream>
 #include <sstream>
 #include <system_error>
-#include <thread>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
 
+#include "common/parallel.h"
 #include "sensor/pose.h"
 
 namespace vts {
@@ -141,6 +146,95 @@ std::string matrix_text(const Pose& pose) {
 
 }  // namespace
 
+namespace {
+
+// OpenEXR's thread pool on the vts threads (common/parallel.h): each task
+// OpenEXR adds is queued and a thread of the arena takes it. OpenEXR's writer
+// blocks its caller until its tasks are done, so the caller takes queued
+// tasks too while two or more wait: the arena's other threads and the caller
+// compress together, as many as the thread limit. A caller that is itself in
+// a parallel loop takes every task (its waiting must not depend on the
+// arena's threads it may be holding).
+class ArenaTaskProvider final : public IlmThread::ThreadPoolProvider {
+ public:
+  explicit ArenaTaskProvider(int threads) : threads_(threads) {}
+  ~ArenaTaskProvider() override { finish(); }
+
+  int numThreads() const override { return threads_; }
+  void setNumThreads(int) override {}  // the thread limit decides
+  void addTask(IlmThread::Task* task) override {
+    if (thread_slot() >= 0) {
+      run(task);
+      return;
+    }
+    std::size_t waiting = 0;
+    {
+      std::lock_guard lock(queue_->mutex);
+      queue_->tasks.push_back(task);
+      waiting = queue_->tasks.size();
+    }
+    // The queue, not the provider, goes with the detached task: OpenEXR may
+    // replace the provider while a finished queue's last takers are pending.
+    run_detached([queue = queue_] { queue->run_one(); });
+    if (waiting >= 2) queue_->run_one();
+  }
+  void finish() override {
+    while (queue_->run_one()) {
+    }
+    std::unique_lock lock(queue_->mutex);
+    queue_->idle.wait(lock, [&] { return queue_->running == 0; });
+  }
+
+ private:
+  // As OpenEXR's own provider does: the task goes before its group hears
+  // that it is done.
+  static void run(IlmThread::Task* task) {
+    IlmThread::TaskGroup* group = task->group();
+    task->execute();
+    delete task;
+    if (group) group->finishOneTask();
+  }
+  struct Queue {
+    std::mutex mutex;
+    std::condition_variable idle;
+    std::deque<IlmThread::Task*> tasks;
+    int running = 0;
+    // Runs the oldest task, if any; false when there was none.
+    bool run_one() {
+      IlmThread::Task* task = nullptr;
+      {
+        std::lock_guard lock(mutex);
+        if (tasks.empty()) return false;
+        task = tasks.front();
+        tasks.pop_front();
+        ++running;
+      }
+      run(task);
+      {
+        std::lock_guard lock(mutex);
+        --running;
+      }
+      idle.notify_all();
+      return true;
+    }
+  };
+  int threads_;
+  std::shared_ptr<Queue> queue_ = std::make_shared<Queue>();
+};
+
+// The threads OpenEXR compresses a file with: the thread limit on the vts
+// arena (the provider set once), or 0, the caller alone, for a limit of 1.
+int exr_threads() {
+  static const int threads = [] {
+    const int n = thread_limit();
+    if (n > 1) IlmThread::ThreadPool::globalThreadPool().setThreadProvider(new ArenaTaskProvider(n));
+    return n > 1 ? n : 0;
+  }();
+  return threads;
+}
+
+}  // namespace
+
 struct ProfileExrWriter::Impl {
   fs::path path;
   fs::path tmp;
@@ -239,11 +333,10 @@ void ProfileExrWriter::Impl::open() {
   try {
     stream = std::make_unique<Imf::StdOFStream>(ofs, tmp.c_str());
     // Compression (ZIP, zlib) is the writer's cost: OpenEXR compresses the
-    // 16-row blocks of a chunk on its thread pool. The bytes written do not
-    // depend on the thread count.
-    const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
-    if (Imf::globalThreadCount() < threads) Imf::setGlobalThreadCount(threads);
-    file = std::make_unique<Imf::OutputFile>(*stream, h, threads);
+    // 16-row blocks of a chunk on its thread pool, which runs on the vts
+    // threads (see ArenaTaskProvider). The bytes written do not depend on
+    // the thread count.
+    file = std::make_unique<Imf::OutputFile>(*stream, h, exr_threads());
   } catch (const std::exception& e) {
     discard();
     throw ExrError(err(e.what()));

@@ -9,10 +9,10 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <type_traits>
 #include <vector>
 
+#include "common/parallel.h"
 #include "sensor/error_model.h"
 #include "sensor/rays.h"
 
@@ -65,8 +65,7 @@ constexpr std::size_t kMinProfilesPerThread = 64;
 class ReferenceSource final : public ProfileSource {
  public:
   ReferenceSource(const ScannerDesc& desc, const Mesh& mesh, int threads)
-      : threads_(threads > 0 ? static_cast<std::size_t>(threads)
-                             : std::max(1u, std::thread::hardware_concurrency())),
+      : threads_(static_cast<std::size_t>(threads > 0 ? std::min(threads, thread_limit()) : thread_limit())),
         desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm) {
     dirs_d_.reserve(dirs_.size());
     for (const auto& d : dirs_) dirs_d_.push_back(d.cast<double>());
@@ -80,28 +79,10 @@ class ReferenceSource final : public ProfileSource {
   void scan_batch(std::span<const Pose> poses, std::span<Profile> out) override {
     assert(poses.size() == out.size());
     const std::size_t n = std::min(poses.size(), out.size());
-    const std::size_t threads = std::min(threads_, n / kMinProfilesPerThread);
-    if (threads <= 1) {
-      for (std::size_t i = 0; i < n; ++i) scan_one(poses[i], out[i]);
-      return;
-    }
-    std::vector<std::exception_ptr> errors(threads);
-    {
-      std::vector<std::jthread> workers;
-      workers.reserve(threads);
-      for (std::size_t t = 0; t < threads; ++t) {
-        const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
-        workers.emplace_back([&, t, begin, end] {
-          try {
-            for (std::size_t i = begin; i < end; ++i) scan_one(poses[i], out[i]);
-          } catch (...) {
-            errors[t] = std::current_exception();
-          }
-        });
-      }
-    }
-    for (const auto& e : errors)
-      if (e) std::rethrow_exception(e);
+    const std::size_t parts = std::max<std::size_t>(1, std::min(threads_, n / kMinProfilesPerThread));
+    parallel_for(parts, [&](std::size_t t) {
+      for (std::size_t i = n * t / parts, end = n * (t + 1) / parts; i < end; ++i) scan_one(poses[i], out[i]);
+    });
   }
 
   const ScannerDesc& scanner() const override { return desc_; }
@@ -118,7 +99,9 @@ class ReferenceSource final : public ProfileSource {
                                       " uses vertex " + std::to_string(v) + " but the mesh has " +
                                       std::to_string(mesh.vertices.size()) + " vertices");
 
-    device_.reset(rtcNewDevice(nullptr));
+    // The thread limit (common/parallel.h) bounds Embree's own threads too.
+    const std::string config = embree_device_config();
+    device_.reset(rtcNewDevice(config.empty() ? nullptr : config.c_str()));
     if (!device_) check(nullptr, "rtcNewDevice");
     rtcSetDeviceErrorFunction(device_.get(), on_embree_error, nullptr);
 

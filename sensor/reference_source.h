@@ -19,7 +19,8 @@ namespace vts {
 // scan() sets out.world_from_sensor to the pose and resizes `out` to
 // desc.points (no allocation when it already has that size); it leaves
 // out.time_s and out.index to the caller. scan_batch() spreads batches of 64
-// profiles or more over `threads` threads (0: one per hardware thread).
+// profiles or more over at most `threads` of the thread limit's threads
+// (0: all of them; common/parallel.h).
 //
 // Throws std::invalid_argument if validate(desc) fails or a triangle indexes a
 // vertex that does not exist, std::runtime_error with Embree's message if

@@ -598,3 +598,47 @@ TEST_CASE("vts mesh: bad inputs exit 2 and create nothing", "[cli]") {
     }
   }
 }
+
+TEST_CASE("vts scan, static: 1 and 2 threads write the same bytes", "[cli][gl][threads]") {
+  // Draws are keyed by profile index and every split of a batch gives the
+  // same rows, so the thread limit (docs/CLI.md, --threads) changes nothing
+  // in the output. 1100 profiles: two full batches of 512 and one of 76,
+  // split at a point that is not a multiple of the raster's 16-profile blocks.
+  TempDir dir;
+  auto scan = [&](const std::string& args, const std::string& out) {
+    const Result r = run_vts(dir, "scan --cell fillet --profiles 1100 --seed 3 " + args + " --out " + out);
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+    return slurp(dir.path / out);
+  };
+  const std::string one = scan("--reference --threads 1", "r1.exr");
+  const std::string two = scan("--reference --threads 2", "r2.exr");
+  CHECK(one.size() > 100000);
+  CHECK(one == two);
+  CHECK(scan("--source reference --threads 1", "e1.exr") == scan("--source reference --threads 2", "e2.exr"));
+  for (const char* threads : {"1", "2"}) {
+    const Result r =
+        run_vts(dir, std::string("static --profiles 70 --out-dir s") + threads + " --threads " + threads);
+    INFO(r.out << r.err);
+    REQUIRE(r.code == 0);
+  }
+  for (const char* file : {"table3.csv", "static-A.png", "static-F.png"})
+    CHECK(slurp(dir.path / "s1" / file) == slurp(dir.path / "s2" / file));
+}
+
+TEST_CASE("vts scan: --threads and VTS_THREADS checked before anything is written", "[cli][threads]") {
+  TempDir dir;
+  Result r = run_vts(dir, "scan --threads 0 --out a.exr");
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "vts scan: --threads = '0': out of range: expected an integer from 1 to 1024"));
+  r = run_vts(dir, "scan --threads two --out a.exr");
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "--threads = 'two': expected an integer from 1 to 1024"));
+  r = run_vts(dir, "scan --out a.exr", "VTS_THREADS=many");
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "vts scan: VTS_THREADS = 'many': expected an integer >= 1"));
+  r = run_vts(dir, "static --out-dir s", "VTS_THREADS=many");
+  CHECK(r.code == 2);
+  CHECK(contains(r.err, "vts static: VTS_THREADS = 'many': expected an integer >= 1"));
+  CHECK(dir.files().empty());
+}

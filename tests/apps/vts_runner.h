@@ -60,9 +60,10 @@ struct Result {
 };
 
 // Runs `vts ARGS` in dir (args are passed through the shell as written),
-// stdin from /dev/null, stdout and stderr captured.
-inline Result run_vts(const TempDir& dir, const std::string& args) {
-  const std::string cmd = "cd " + shell_quote(dir.path.string()) + " && " +
+// stdin from /dev/null, stdout and stderr captured; `env` ("NAME=value ...")
+// goes before the command.
+inline Result run_vts(const TempDir& dir, const std::string& args, const std::string& env = "") {
+  const std::string cmd = "cd " + shell_quote(dir.path.string()) + " && " + env + (env.empty() ? "" : " ") +
                           shell_quote(kVts.string()) + " " + args +
                           " > stdout.txt 2> stderr.txt < /dev/null";
   const int status = std::system(cmd.c_str());
