@@ -520,13 +520,14 @@ class Matcher {
     // them: where a wall below them starts, or for a circular rounding
     // tangent to the plate at (a, h) along and behind it, r = (a^2 + h^2) /
     // 2h along; the interval [a, r] is the edge's uncertainty.
+    // A face point seen below it still fixes the edge exactly.
     const Rounding rd = sharp ? Rounding{} : rounding(pl, near, dir, beyond_col);
+    double r = 0.0;
     if (rd.along > 0.0) {
-      const double r = rd.wall ? rd.along : std::clamp((rd.along * rd.along + rd.depth * rd.depth) / (2.0 * rd.depth),
-                                                      rd.along, rd.along + kMaxRoundingMm);
+      r = rd.wall ? rd.along
+                  : std::clamp((rd.along * rd.along + rd.depth * rd.depth) / (2.0 * rd.depth), rd.along,
+                               rd.along + kMaxRoundingMm);
       width = std::max(width, r + tol_);
-      if (!face_dir || !p_.square_edges || !faces_meet(pl, near, dir, width, face_dir, faces, more_faces))
-        return Edge{near + r * dir, std::max(0.5 * (r - rd.along), tol_)};
     }
     if (face_dir && p_.square_edges) {
       Vec2 sum = Vec2::Zero();
@@ -544,6 +545,7 @@ class Matcher {
       }
       if (k > 0) return Edge{sum / k, 0.0};
     }
+    if (rd.along > 0.0) return Edge{near + r * dir, std::max(0.5 * (r - rd.along), tol_)};
     return Edge{0.5 * (near + far), 0.5 * (far - near).dot(dir)};
   }
 
@@ -581,20 +583,6 @@ class Matcher {
       if (a > rd.along) rd.along = a, rd.depth = h;
     }
     return rd;
-  }
-  // Some face point meets the plate within `width` of its end (as in edge_at).
-  bool faces_meet(const Plate& pl, const Vec2& near, const Vec2& dir, double width, const Vec2* face_dir,
-                  std::span<const Vec2> faces, std::span<const Vec2> more_faces) const {
-    const double den = pl.line.n.dot(*face_dir);
-    if (std::abs(den) < 0.2) return false;
-    for (const auto span : {faces, more_faces})
-      for (const Vec2& q : span) {
-        if (pl.line.signed_distance(q) > -tol_) continue;
-        const Vec2 f = q + (pl.line.c - pl.line.n.dot(q)) / den * *face_dir;
-        const double a = (f - near).dot(dir);
-        if (a >= -tol_ && a <= width + tol_) return true;
-      }
-    return false;
   }
 
   // Kept points [from, to] (empty if from > to).
