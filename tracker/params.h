@@ -149,11 +149,6 @@ struct ButtParams {
   // the segment across the hole) is a gap candidate when the next (previous)
   // long segment reaches back over the pieces to it.
   bool stub_across_hole = true;
-  // Points removed as outliers between two plates in front of both are no
-  // gap (a reflection cluster), unless walls are seen between them (kept
-  // points off both lines, at 45 degrees or more to the plates): then the
-  // removed points are a reflection in the gap.
-  bool walls_outrank_removed_points = true;
 };
 
 struct VGrooveParams {

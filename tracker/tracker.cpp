@@ -307,6 +307,39 @@ class Matcher {
   // (infinite if none).
   double outside_mm() const { return outside_mm_; }
 
+  // What reading c leaves unexplained beyond its joint: the long segments
+  // outside the plates' facing ends, each within the butt's plate angle
+  // (ButtParams::max_plate_angle_deg) of the plate on its side, whose points
+  // mostly lie on none of the reading's lines, extended: a step to a third
+  // plate, where the joint may be instead (a plate's end face, square to
+  // it, is no such thing). Returns the robust cost of the strongest under c
+  // (as Evidence::strength weighs a point; 0: none) and its columns.
+  double unexplained_beyond(const Candidate& c, int& first_col, int& last_col) const {
+    const ConfidenceParams& cp = p_.confidence;
+    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
+    double best = 0.0;
+    for (int q = 0; q < n_long(); ++q) {
+      const Segment& sg = seg(q);
+      if (sg.last >= c.pa.last && sg.first <= c.pb.first) continue;  // the joint's own
+      const Plate& side = sg.last < c.pa.last ? c.pa : c.pb;
+      if (!sg.fitted || acute_angle_deg(sg.line, side.line) > p_.butt.max_plate_angle_deg) continue;
+      const int stride = std::max(1, sg.count() / 32);
+      int n = 0, n_off = 0;
+      double cost = 0.0;
+      for (int i = sg.first; i <= sg.last; i += stride) {
+        const Vec2& q_pt = pt(i);
+        double d = std::min(c.pa.line.distance(q_pt), c.pb.line.distance(q_pt));
+        for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q_pt));
+        ++n;
+        n_off += d > 2.0 * tol_;
+        const double x2 = (d / sigma_) * (d / sigma_);
+        cost += std::min(stride, sg.last - i + 1) * (x2 <= in2 ? 0.0 : 0.5 * (std::min(x2, cap2) - in2));
+      }
+      if (2 * n_off > n && cost > best) best = cost, first_col = sg.first_col, last_col = sg.last_col;
+    }
+    return best;
+  }
+
  private:
   // The evidence for reading c (see Evidence): over the points within
   // ConfidenceParams::window_mm of the track point, the robust cost of "no
@@ -1028,31 +1061,19 @@ class Matcher {
   void butt_pair(const Plate& a, const Plate& b, int from, int to, int evidence) {
     const ButtParams& bp = p_.butt;
     if (acute_angle_deg(a.line, b.line) > bp.max_plate_angle_deg) return;
-    // Rays into a gap go behind the plates: points between them (kept or
-    // removed as outliers) in front of both plates are no gap, nor are points
-    // off both lines that lie on a line along the plates (a reflection
-    // cluster: a few points displaced along their rays by one offset). Walls
-    // are square to the plates: kept points between them all off both lines,
-    // on a line at 45 degrees or more to the plates, are walls seen in the
-    // gap, and then removed points in front of both are a reflection in the
-    // gap, not a reason to doubt it (ButtParams::walls_outrank_removed_points).
-    bool walls = false;
-    if (from <= to) {
-      bool all_off = true;
-      for (int i = from; i <= to; ++i) {
-        if (a.line.signed_distance(pt(i)) > tol_ && b.line.signed_distance(pt(i)) > tol_) return;
-        all_off = all_off && a.line.distance(pt(i)) > tol_ && b.line.distance(pt(i)) > tol_;
-      }
-      if (to > from && all_off) {
-        const auto f = s_.fit(from, to);
-        walls = (f ? acute_angle_deg(f->line, a.line) : 90.0) >= 45.0;
-      }
+    // Points between the plates in front of both (kept, or removed as
+    // outliers: a reflection over the gap or over a plate) do not rule a gap
+    // out: weigh() counts them against the joint as a random event, as it
+    // does against no joint. Walls are square to the plates: kept points
+    // between them all off both lines, on a line at 45 degrees or more to
+    // the plates, are walls seen in the gap (evidence of it).
+    bool all_off = from < to;
+    for (int i = from; i <= to && all_off; ++i)
+      all_off = a.line.distance(pt(i)) > tol_ && b.line.distance(pt(i)) > tol_;
+    if (all_off) {
+      const auto f = s_.fit(from, to);
+      if ((f ? acute_angle_deg(f->line, a.line) : 90.0) >= 45.0) evidence = 1;
     }
-    if (walls) evidence = 1;
-    if (!(walls && bp.walls_outrank_removed_points) &&
-        s_.invalid_columns_between(s_.cols[a.last], s_.cols[b.first]) == 0)
-      for (const Vec2& o : outliers_between(s_.cols[a.last], s_.cols[b.first]))
-        if (a.line.signed_distance(o) > tol_ && b.line.signed_distance(o) > tol_) return;
     const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
     // Each plate reaches over the points removed as outliers right after its
     // end that lie on its line (TrackerParams::reach_removed_points).
@@ -1742,7 +1763,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
       }
     });
     m.for_each_reading([&](const Vec2& track, double strength) { out.readings.push_back({track, strength}); });
-    out.confidence = 1.0 / (1.0 + against + rivals);
+    // A step beyond the plates that the reading does not explain is a rival
+    // as strong as its points' cost.
+    int u_first = 0, u_last = 0;
+    const double beyond = m.unexplained_beyond(best, u_first, u_last);
+    const double step_rival = beyond > 0.0 ? std::exp(std::min(beyond - e, 700.0)) : 0.0;
+    out.confidence = 1.0 / (1.0 + against + rivals + step_rival);
     // The reading must explain the points near the joint: a bead, a tack
     // weld or a body there that fits none of its lines is no part of this
     // joint, and the joint may lie under it.
@@ -1765,7 +1791,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
       out.confidence = 0.0;
     } else if (out.confidence < cp.min_confidence) {
       out.status = TrackStatus::Rejected;
-      if (rivals > against)
+      if (step_rival > std::max(rivals, against))
+        std::snprintf(buf, sizeof buf,
+                      "ambiguous: confidence %.2f, the points of columns %d-%d are a step off the reading's "
+                      "lines (evidence %.3g vs %.3g): the joint may be there",
+                      out.confidence, u_first, u_last, beyond, e);
+      else if (rivals > against)
         std::snprintf(buf, sizeof buf, "ambiguous: confidence %.2f, another reading %.3g mm away is as strong (%.3g vs %.3g)",
                       out.confidence, (*out.rival_track_point - *best.track).norm(), out.rival_strength, e);
       else

@@ -29,9 +29,9 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const tk::ScoreTable table = run(o);
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
-      {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {58, 0.49}},
-      {tk::JointType::Lap, {125, 0.49}},    {tk::JointType::Butt, {158, 0.66}},
-      {tk::JointType::VGroove, {110, 0.70}},
+      {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {56, 0.49}},
+      {tk::JointType::Lap, {125, 0.49}},    {tk::JointType::Butt, {115, 0.67}},
+      {tk::JointType::VGroove, {100, 0.70}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -53,4 +53,26 @@ TEST_CASE("corpus: fillets up to 0.1 mm noise: 2 false reads in 6,000", "[tracke
   o.profiles = 1000;
   const tk::Tally t = run(o).total(tk::JointType::Fillet);
   CHECK(t.false_reads <= 2);
+}
+
+TEST_CASE("corpus: butt profiles whose true joint was never a candidate", "[tracker][corpus]") {
+  // Development seeds with the corpus' imperfections that were false reads
+  // 23-60 mm off: a reflection in front of the gap ruled the true joint out
+  // (176, 267), or a dropout run on one plate was read while the other
+  // plate, 0.6-1.9 mm off its line, was left unexplained (137, 250). None
+  // may be a false read now.
+  const std::pair<std::uint64_t, double> cases[] = {{137, 0.0}, {176, 0.05}, {250, 0.0}, {267, 0.0}};
+  for (const auto& [seed, noise] : cases) {
+    vc::Options opt;
+    opt.noise_mm = noise;
+    opt.camera_in_laser_plane = false;  // as run() draws them
+    const vc::Profile p = vc::make_profile(vc::Joint::Butt, seed, opt);
+    tk::TrackerParams params;
+    params.joint = tk::JointType::Butt;
+    tk::Tracker tracker(params);
+    const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
+    const tk::Scored s = tk::score(r, truth_of(p.truth));
+    INFO("seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason << ", error " << s.track_error_mm);
+    CHECK(s.outcome != tk::Outcome::False);
+  }
 }
