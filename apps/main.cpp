@@ -10,6 +10,7 @@
 
 #include "apps/cli.h"
 #include "apps/vts_scan.h"
+#include "apps/vts_score.h"
 #include "apps/vts_mesh.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
@@ -49,6 +50,8 @@ int run(int argc, char** argv) {
   CLI::App* sensors = vts::apps::add_sensors_command(app, sensors_exit);
   int track_exit = vts::cli::kExitOk;
   CLI::App* track = vts::apps::add_track_command(app, track_exit);  // runs from its callback
+  int score_exit = vts::cli::kExitOk;
+  CLI::App* score = vts::apps::add_score_command(app, score_exit);  // runs from its callback
   int static_exit = vts::cli::kExitOk;
   CLI::App* static_cmd = vts::apps::add_static_command(app, static_exit);  // runs from its callback
   int sim_exit = vts::cli::kExitOk;
@@ -75,6 +78,7 @@ int run(int argc, char** argv) {
   if (cells->parsed()) return list_cells();
   if (plot->parsed()) return plot_exit;
   if (track->parsed()) return track_exit;
+  if (score->parsed()) return score_exit;
   if (static_cmd->parsed()) return static_exit;
   if (sensors->parsed()) return sensors_exit;
   if (sim->parsed()) return sim_exit;

@@ -15,6 +15,7 @@
 
 #include "apps/cli.h"
 #include "pipeline/track_input.h"
+#include "tracker/follower.h"
 #include "tracker/tracker.h"
 #include "trackio/params_yaml.h"
 #include "trackio/result_json.h"
@@ -59,6 +60,8 @@ constexpr std::size_t kParamOptionCount = std::size(kParamOptions);
 struct TrackOptions {
   std::string input, out, joint, params;
   bool truth = false;
+  bool independent = false;  // each profile alone, not the sequence (tracker/follower.h)
+  std::string travel;        // --travel MM: travel per profile without poses (CSV)
   struct Value {
     std::string text;  // "" = not given
     bool flag = false;
@@ -186,11 +189,24 @@ int run_track(const TrackOptions& o) {
   }
   std::ostream& out = o.out.empty() ? std::cout : out_file;
 
+  // The sequence (docs/JOINTS.md, "Sequence tracking"), or with
+  // --independent each profile alone. EXR recordings carry the sensor's pose
+  // per profile; CSV ones are taken as profiles along the seam, --travel apart.
+  tk::FollowParams follow;
+  if (!o.travel.empty()) follow.travel_per_profile_mm = option_number("--travel", o.travel, Limit{0.0, INFINITY, false}, "mm");
   tk::Tracker tracker(params);
+  tk::Follower follower(params, follow);
   tk::TrackResult result;
   for (const Profile& p : input.profiles) {
-    tracker.track(tk::ProfileView{p.y_mm, p.z_mm, p.valid}, result);
-    const std::string line = trackio::result_to_json_line(p.index, result);
+    const tk::ProfileView view{p.y_mm, p.z_mm, p.valid};
+    if (o.independent) {
+      tracker.track(view, result);
+      const std::string line = trackio::result_to_json_line(p.index, result);
+      out.write(line.data(), static_cast<std::streamsize>(line.size()));
+      continue;
+    }
+    const tk::TrackResult& r = follower.track(view, input.csv ? nullptr : &p.world_from_sensor);
+    const std::string line = trackio::sequence_to_json_line(p.index, r, follower);
     out.write(line.data(), static_cast<std::streamsize>(line.size()));
   }
   out.flush();
@@ -232,6 +248,13 @@ CLI::App* add_track_command(CLI::App& app, int& exit_code) {
       ->type_name("TYPE");
   cmd->add_option("--params", o->params, "Tracker parameters, YAML (docs/CLI.md); options below override it")
       ->type_name("FILE");
+  cmd->add_flag("--independent", o->independent,
+                "Read each profile alone; by default the profiles are a sequence along one seam: once the "
+                "joint is found, each profile is searched only near where it is predicted (docs/JOINTS.md)");
+  cmd->add_option("--travel", o->travel,
+                  "CSV: travel of the sensor along the seam per profile, mm (>= 0; default 1; EXR files "
+                  "carry the sensor's pose per profile)")
+      ->type_name("MM");
   cmd->add_flag("--truth", o->truth,
                 "EXR recorded with the error model: track the ideal points (true.y, true.z, true.valid) "
                 "instead of the measured ones");

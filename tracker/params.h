@@ -177,9 +177,84 @@ struct VGrooveParams {
   bool short_bevel_across_pieces = true;
 };
 
+// The profile's noise level and the tolerances that follow it (tracker/noise.h).
+// Every tolerance below that noise must not cross is raised to a multiple of
+// the noise sigma (across the surface, 1 sigma, mm) when that is larger than
+// the tolerance's own value, so the same defaults serve ideal profiles and a
+// real sensor's 0.2 mm RMS.
+struct NoiseParams {
+  // The sensor's noise, if known (> 0); 0: estimated from each profile
+  // (estimate_noise_mm: median of second differences across the surface).
+  double sigma_mm = 0.0;
+  bool adapt = true;  // off: the tolerances are used as given
+  double surface_k = 3.0;       // TrackerParams::surface_tol_mm
+  double outlier_k = 5.0;       // OutlierParams::threshold_mm
+  double support_k = 3.0;       // OutlierParams::support_tol_mm
+  double split_k = 5.0;         // SegmentParams::split_threshold_mm
+  double break_k = 6.0;         // SegmentParams::break_min_mm
+  double merge_offset_k = 4.0;  // SegmentParams::max_merge_offset_mm
+  double fit_k = 2.0;           // SegmentParams::fit_tol_mm
+};
+
+// How sure the tracker is of a reading, and when it says it is not
+// (TrackResult::confidence, docs/JOINTS.md "Confidence").
+//
+// A reading's strength E is the log-likelihood ratio of "the joint as read"
+// against "no joint here", over the points near its track point:
+// - each point of its two plates, and each point between them, x sigmas off
+//   the line that explains it (the nearer plate's), costs x^2 / 2 (the
+//   Gaussian's negative log-likelihood, capped at cap_sigma^2 / 2 for
+//   outliers); "no joint" explains them all with one of the two plates'
+//   lines continued; sigma is TrackResult::noise_mm, or surface_tol_mm /
+//   NoiseParams::surface_k when that is larger;
+// - in an open joint (butt, v-groove), rays into it (invalid columns, points
+//   behind both plates on a wall of the opening or deep enough) are one
+//   event that "no joint" must explain as a random one, a dropout run or a
+//   reflection cluster: ln(1 / p) with p the profile's rate of such events
+//   per column (runs of invalid or removed columns between its first and
+//   last usable one, leaving out the reading's own, (k + 1) / (n + 2)).
+// The confidence is the reading's posterior probability among the distinct
+// readings (rivals farther than distinct_mm) and "the joint is not in view",
+// with the prior hidden_prior for the latter and the rest spread evenly over
+// the profile's n usable points:
+//   confidence = e^E / (e^E + sum over rivals e^E_r + n hidden_prior / (1 - hidden_prior)).
+struct ConfidenceParams {
+  double window_mm = 10.0;  // plate points this close to the track point are weighed
+  // A point costs nothing within noise_k sigmas of the line that explains
+  // it (noise and waviness are no evidence either way), then (x^2 - noise_k^2)
+  // / 2 for x sigmas, up to x = cap_sigma (an outlier).
+  double noise_k = 3.0;
+  double cap_sigma = 5.0;
+  double distinct_mm = 1.0;  // readings farther apart are different joints
+  // The share of profiles in which the joint is not in view (a tack weld over
+  // it, a shadow, the seam's ends): a lone weak reading is then noise.
+  double hidden_prior = 0.05;
+  // Readings less sure than this are rejected ("weak" or "ambiguous").
+  double min_confidence = 0.9;
+  // A reading must explain the points near the joint: it is rejected
+  // ("unexplained") when more than unexplained_points plus unexplained_share
+  // of the points in the window lie on none of its lines (a bead, a tack
+  // weld, an obstacle: the joint may lie under it). Reflection clusters are
+  // a few points.
+  int unexplained_points = 6;
+  double unexplained_share = 0.1;
+  // Its plates must be lines there: rejected ("curved") when one's points
+  // lie more than this many noise sigmas (rms) about its line.
+  double max_plate_rms_sigma = 2.0;
+};
+
+// A prediction of where the joint is (sensor frame, mm), from the profiles
+// before (tracker/follower.h): only readings within radius_mm of it count.
+struct TrackPrior {
+  Vec2 track_point = Vec2::Zero();
+  double radius_mm = 5.0;
+};
+
 struct TrackerParams {
   JointType joint = JointType::Fillet;
   SegmentationParams segmentation;
+  NoiseParams noise;
+  ConfidenceParams confidence;
   FilletParams fillet;
   CornerParams corner;
   LapParams lap;

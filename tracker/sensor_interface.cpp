@@ -32,11 +32,12 @@ double support_distance_mm(const ProfileView& p, const Vec2& point) {
 }
 
 SensorUnit::SensorUnit(std::unique_ptr<ProfileStream> stream, const TrackerParams& tracker_params,
-                       const SequenceParams& sequence_params)
-    : stream_(std::move(stream)), tracker_(tracker_params), sequence_(sequence_params) {}
+                       const SequenceParams& sequence_params, const FollowParams& follow_params)
+    : stream_(std::move(stream)), follower_(tracker_params, follow_params), sequence_(sequence_params) {}
 
 bool SensorUnit::laser_on() {
   error_.clear();
+  follower_.reset();
   laser_ = true;
   latest_.reset();
   have_tool_ = false;
@@ -51,6 +52,7 @@ void SensorUnit::laser_off() {
 
 void SensorUnit::search_start() {
   latest_.reset();
+  follower_.reset();
   sequence_.search_start();
 }
 void SensorUnit::start_tracking() { sequence_.start_tracking(); }
@@ -66,7 +68,15 @@ bool SensorUnit::take(std::int64_t index, double time_s, const Pose3& world_from
     events.push_back(Event::StreamEnded);
     return false;
   }
-  tracker_.track(profile_.view(), result_);
+  // The profiles are read as a sequence (tracker/follower.h): a reading
+  // that jumps away from the followed joint is rejected. While the follower
+  // confirms a joint, its readings already count for the sequence's start
+  // search, which confirms the start itself.
+  result_ = follower_.track(profile_.view(), &profile_.world_from_sensor);
+  if (follower_.read() && result_.status == TrackStatus::Rejected) {
+    result_.status = TrackStatus::Ok;
+    result_.reason.clear();
+  }
   Observation obs;
   obs.index = profile_.index;
   obs.time_s = profile_.time_s;

@@ -20,6 +20,7 @@
 
 #include <Eigen/Geometry>
 
+#include "tracker/follower.h"
 #include "tracker/sequence.h"
 #include "tracker/tracker.h"
 
@@ -104,7 +105,7 @@ class SensorInterface {
 class SensorUnit final : public SensorInterface {
  public:
   SensorUnit(std::unique_ptr<ProfileStream> stream, const TrackerParams& tracker_params,
-             const SequenceParams& sequence_params = {});
+             const SequenceParams& sequence_params = {}, const FollowParams& follow_params = {});
 
   bool laser_on() override;
   void laser_off() override;
@@ -129,7 +130,7 @@ class SensorUnit final : public SensorInterface {
   bool take(std::int64_t index, double time_s, const Pose3& world_from_tool, std::vector<Event>& events);
 
   std::unique_ptr<ProfileStream> stream_;
-  Tracker tracker_;
+  Follower follower_;  // the tracker over the profile sequence (tracker/follower.h)
   Sequence sequence_;
   SensorProfile profile_;
   TrackResult result_;

@@ -1,9 +1,12 @@
 #include "tracker/tracker.h"
 
+#include "tracker/noise.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <numbers>
 #include <span>
@@ -59,19 +62,71 @@ struct Edge {
   double half_width_mm = 0.0;
 };
 
+// What a reading's points say for it (Matcher::weigh, docs/JOINTS.md
+// "Confidence"), in units of the noise.
+struct Evidence {
+  // How much better the reading explains the points near the joint than one
+  // line through them (no joint): a robust log-likelihood ratio over the
+  // points within ConfidenceParams::window_mm of the track point, each term
+  // capped.
+  double strength = 0.0;
+  int points = 0;       // points in that window
+  int unexplained = 0;  // of them, on no line of the reading and not inside its opening
+  double fit = 0.0;     // the larger of the plates' rms about their lines there, in noise sigmas
+};
+
 // One way of reading the profile as the configured joint.
 struct Candidate {
   std::array<std::optional<Vec2>, kMaxBreakPoints> bp;
   std::optional<Vec2> track;
   double gap = kNaN, gap_paper = kNaN, angle = kNaN, mismatch = kNaN, step = kNaN, depth = kNaN, area = kNaN;
   double edge_unc = 0.0;
+  double track_unc = 0.0;  // half the interval the track point can lie in, from its edges
   double score = 0.0;
   bool accepted = false;
   char reason[160] = {};
+  // The two plates the reading rests on, in scan order (fillet: the plates;
+  // corner: the faces; lap: lower and upper; butt: the plates; v-groove: the
+  // bevels), and the other lines it sees near the joint (v-groove: the plate
+  // tops; lap: the edge face; corner: the end faces; fillet: the web's
+  // bottom), for its evidence (Matcher::weigh).
+  Plate pa, pb;
+  std::array<Line, 3> more;
+  int n_more = 0;
+  void add_line(const Line& l) {
+    if (n_more < static_cast<int>(more.size())) more[n_more++] = l;
+  }
+  // Rays between the plates may go into the joint (butt, v-groove): points
+  // behind both plates inside its opening and invalid columns there are
+  // evidence of it. The opening lies between its edges a and b, whose walls
+  // run square to the plates (TrackerParams::square_edges); into_a, into_b:
+  // unit directions along the surface from each edge into the opening;
+  // slack: how far a point may lie outside (the edge's uncertainty and the
+  // surface tolerance).
+  bool open_joint = false;
+  bool parallel = false;  // the plates are parallel (butt, lap): weighed as such
+  struct Opening {
+    Vec2 a = Vec2::Zero(), b = Vec2::Zero(), into_a = Vec2::Zero(), into_b = Vec2::Zero();
+    double slack_a = 0.0, slack_b = 0.0;
+    bool contains(const Vec2& q) const { return (q - a).dot(into_a) >= -slack_a && (q - b).dot(into_b) >= -slack_b; }
+    // On a wall within its slack, and within 15 degrees of square below the
+    // edge: the wall as seen, noise along the rays and an edge not quite
+    // square.
+    bool on_wall(const Vec2& q) const {
+      const Vec2 down_a(into_a.y(), -into_a.x()), down_b(into_b.y(), -into_b.x());
+      const double lean = std::tan(15.0 * std::numbers::pi / 180.0);
+      return std::abs((q - a).dot(into_a)) <= slack_a + lean * std::abs((q - a).dot(down_a)) ||
+             std::abs((q - b).dot(into_b)) <= slack_b + lean * std::abs((q - b).dot(down_b));
+    }
+  } opening;
+  Evidence evidence;
 };
 
+// Accepted readings first, then the stronger evidence (Matcher::weigh),
+// then the template's own ranking.
 bool better(const Candidate& a, const Candidate& b) {
   if (a.accepted != b.accepted) return a.accepted;
+  if (a.accepted && a.evidence.strength != b.evidence.strength) return a.evidence.strength > b.evidence.strength;
   return a.score > b.score;
 }
 
@@ -85,14 +140,71 @@ bool check(Candidate& c, const char* name, double v, const Range& r, const char*
 class Matcher {
  public:
   Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
-          std::vector<int>& bevels)
-      : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), origin_(p.segmentation.ray_origin_yz),
-        tol_(p.surface_tol_mm) {}
+          std::vector<int>& bevels, std::vector<std::uint8_t>& off_plates, std::vector<int>& next_long)
+      : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), off_plates_(off_plates), next_long_(next_long),
+        origin_(p.segmentation.ray_origin_yz), tol_(p.surface_tol_mm),
+        sigma_(std::max(p.surface_tol_mm / std::max(1.0, p.noise.surface_k), 1e-6)) {
+    // Columns that look like a ray into a gap (events_between): invalid, or
+    // a point (removed, or kept in a segment shorter than s_min) behind the
+    // line of the nearer long segment beside it by more than the surface
+    // tolerance.
+    const int n = static_cast<int>(s.column_state.size());
+    off_plates_.assign(n, 0);
+    const int s_min = std::max(2, p.segmentation.segments.min_segment_points);
+    int prev_long = -1;  // last long segment before the point at hand
+    std::size_t next_seg = 0;
+    // next_long[k]: the first long segment from segment k on (-1: none).
+    next_long_.assign(s.segments.size() + 1, -1);
+    for (int k = static_cast<int>(s.segments.size()) - 1; k >= 0; --k)
+      next_long_[k] = s.segments[k].count() >= s_min ? k : next_long_[k + 1];
+    auto behind = [&](const Vec2& q, int col) {
+      const Segment* before = prev_long >= 0 ? &s.segments[prev_long] : nullptr;
+      const Segment* after = nullptr;
+      for (int k = next_long_[next_seg]; k >= 0 && !after; k = next_long_[k + 1])
+        if (s.segments[k].first_col > col) after = &s.segments[k];
+      const Segment* near = !before ? after
+                            : !after ? before
+                                     : (col - before->last_col <= after->first_col - col ? before : after);
+      return near && near->line.signed_distance(q) < -tol_;
+    };
+    std::size_t o = 0;  // next removed point
+    for (std::size_t k = 0; k < s.segments.size(); ++k) {
+      const Segment& sg = s.segments[k];
+      next_seg = k;
+      for (; o < s.outlier_cols.size() && s.outlier_cols[o] < sg.first_col; ++o)
+        off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
+      if (sg.count() >= s_min) {
+        prev_long = static_cast<int>(k);
+        continue;
+      }
+      for (int i = sg.first; i <= sg.last; ++i) off_plates_[s.cols[i]] = behind(s.points[i], s.cols[i]);
+    }
+    next_seg = s.segments.size();
+    for (; o < s.outlier_cols.size(); ++o) off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
+    for (int col = 0; col < n; ++col)
+      if (s.column_state[col] == kColumnInvalid) off_plates_[col] = kInvalidEvent;
+    // The events of both kinds in one pass (events_between counts one kind).
+    if (!s.cols.empty()) {
+      span_ = s.cols.back() - s.cols.front() - 1;
+      std::uint8_t prev = 0;
+      for (int col = s.cols.front() + 1; col < s.cols.back(); ++col) {
+        const std::uint8_t k = off_plates_[col];
+        if (k != 0) {
+          ++gone_[k - 1];
+          events_[k - 1] += k != prev;
+        }
+        prev = k;
+      }
+    }
+  }
 
   // Fills `best` with the best candidate; returns false if there is none.
-  bool run(JointType joint, Candidate& best) {
+  bool run(JointType joint, Candidate& best, const TrackPrior* prior = nullptr) {
     found_ = false;
     best_ = &best;
+    prior_ = prior;
+    n_readings_ = 0;
+    outside_mm_ = std::numeric_limits<double>::infinity();
     switch (joint) {
       case JointType::Fillet: fillet(); break;
       case JointType::Corner: corner(); break;
@@ -109,18 +221,238 @@ class Matcher {
   const std::vector<int>& longs_;
   std::vector<Vec2>& scratch_;
   std::vector<int>& bevels_;
+  std::vector<std::uint8_t>& off_plates_;  // per column: looks like a ray into a gap (events_between)
+  std::vector<int>& next_long_;            // scratch of the constructor
   Vec2 origin_;
   double tol_;
+  double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
+  // Columns between the first and last kept point, and the random events
+  // among them and their columns (events_between).
+  int span_ = 0, events_[2] = {0, 0}, gone_[2] = {0, 0};
   Candidate* best_ = nullptr;
   bool found_ = false;
+  const TrackPrior* prior_ = nullptr;
+  // The accepted readings' track points and strengths (the strongest
+  // kMaxReadings), for the rival of the best one.
+  struct Reading {
+    Vec2 track;
+    double strength;
+  };
+  static constexpr int kMaxReadings = 32;
+  std::array<Reading, kMaxReadings> readings_;
+  int n_readings_ = 0;
+  double outside_mm_ = 0.0;  // distance of the nearest reading outside the prior's region
+
+  // Runs of columns that look like rays into a gap (invalid, or a point off
+  // the plates behind them) strictly between columns a and b: random events
+  // (dropout runs, reflection clusters) to "no joint". `gone` counts their
+  // columns.
+  // Events of two kinds, counted apart (a sensor's dropout runs and its
+  // reflection clusters come at their own rates): runs of invalid columns,
+  // and runs of points off the plates behind them.
+  static constexpr std::uint8_t kPointEvent = 1, kInvalidEvent = 2;
+  int events_between(int a, int b, std::uint8_t type, int* gone = nullptr) const {
+    int runs = 0, cols = 0;
+    bool in_run = false;
+    for (int col = a + 1; col < b; ++col) {
+      const bool g = off_plates_[col] == type;
+      runs += g && !in_run;
+      cols += g;
+      in_run = g;
+    }
+    if (gone) *gone = cols;
+    return runs;
+  }
 
   const Vec2& pt(int i) const { return s_.points[i]; }
   const Segment& seg(int q) const { return s_.segments[longs_[q]]; }
   int n_long() const { return static_cast<int>(longs_.size()); }
 
-  void offer(const Candidate& c) {
+  void offer(Candidate& c) {
+    if (prior_ && c.track) {
+      const double d = (*c.track - prior_->track_point).norm();
+      if (d > prior_->radius_mm) {
+        outside_mm_ = std::min(outside_mm_, d);
+        return;
+      }
+    }
+    if (c.accepted && c.track) {
+      c.evidence = weigh(c);
+      const Reading r{*c.track, c.evidence.strength};
+      if (n_readings_ < kMaxReadings) {
+        readings_[n_readings_++] = r;
+      } else {
+        auto weakest = std::min_element(readings_.begin(), readings_.end(),
+                                        [](const Reading& x, const Reading& y) { return x.strength < y.strength; });
+        if (weakest->strength < r.strength) *weakest = r;
+      }
+    }
     if (!found_ || better(c, *best_)) *best_ = c;
     found_ = true;
+  }
+
+ public:
+  // Calls f(track, strength) for each accepted reading farther than
+  // ConfidenceParams::distinct_mm from `track` (the best reading's).
+  template <class F>
+  void for_each_rival(const Vec2& track, F f) const {
+    for (int k = 0; k < n_readings_; ++k)
+      if ((readings_[k].track - track).norm() > p_.confidence.distinct_mm) f(readings_[k].track, readings_[k].strength);
+  }
+  template <class F>
+  void for_each_reading(F f) const {
+    for (int k = 0; k < n_readings_; ++k) f(readings_[k].track, readings_[k].strength);
+  }
+  // Distance from the prior's point to the nearest reading outside its region
+  // (infinite if none).
+  double outside_mm() const { return outside_mm_; }
+
+ private:
+  // The evidence for reading c (see Evidence): over the points within
+  // ConfidenceParams::window_mm of the track point, the robust cost of "no
+  // joint: one line through them" less that of "the joint as read" (each
+  // point on the nearest of its lines; in an open joint, a point between the
+  // plates behind both, inside its opening, on a wall or deep enough, or an
+  // invalid column, counts as a ray into the joint).
+  Evidence weigh(const Candidate& c) const {
+    Evidence ev;
+    const ConfidenceParams& cp = p_.confidence;
+    const double sig = sigma_;
+    // A point's cost: nothing within noise_k sigmas of the line that
+    // explains it (noise, waviness: no evidence either way), then growing
+    // as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
+    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
+    auto rho = [&](double d) {
+      const double x = d / sig;
+      return x * x <= in2 ? 0.0 : 0.5 * (std::min(x * x, cap2) - in2);
+    };
+    const Vec2 t = *c.track;
+    const int n = static_cast<int>(s_.points.size());
+    // The window: the kept points from the plates' facing ends outwards while
+    // within window_mm of the track point (past up to 8 beyond it: a
+    // surface can turn back towards it), and everything between the ends.
+    auto reach_out = [&](int from, int step) {
+      int last = from, beyond = 0;
+      for (int i = from; i >= 0 && i < n && beyond <= 8; i += step) {
+        if ((pt(i) - t).squaredNorm() <= cp.window_mm * cp.window_mm) last = i, beyond = 0;
+        else ++beyond;
+      }
+      return last;
+    };
+    const int w0 = reach_out(c.pa.last, -1), w1 = reach_out(c.pb.first, +1);
+    // "No joint": one line through the window, the best of either plate's
+    // line continued and the fit to the plates' points in it (not that fit
+    // alone: a few points of a gap or a bead pull it off).
+    // The plates' points there (a plate's index range can hold a short
+    // piece off its line: a reflection cluster), every stride-th (about 48 a
+    // side on dense profiles).
+    const int stride = std::max(1, std::max(c.pa.last - w0, w1 - c.pb.first) / 48);
+    auto on_plate = [&](int from, int to, const Line& l) {
+      PointSums ps;
+      for (int i = from; i <= to; i += stride)
+        if (l.distance(pt(i)) <= 2.0 * tol_) ps.add(pt(i) - s_.ref_);
+      return ps;
+    };
+    const PointSums sa = on_plate(std::max(w0, c.pa.first), c.pa.last, c.pa.line);
+    const PointSums sb = on_plate(c.pb.first, std::min(w1, c.pb.last), c.pb.line);
+    PointSums sums = sa;
+    sums += sb;
+    const auto both = s_.fit(sums);
+    const Line nulls[3] = {c.pa.line, c.pb.line, both ? both->line : c.pa.line};
+    // The joint: its plates' lines, or for parallel plates (butt, lap) the
+    // two parallel lines that fit the plates' points there best (one
+    // direction, two offsets): two free lines would also fit a wavy plate
+    // split at a crest much better than one.
+    Line la = c.pa.line, lb = c.pb.line;
+    if (c.parallel && sa.n >= 2 && sb.n >= 2) {
+      const Moments ma = s_.moments(sa), mb = s_.moments(sb);
+      Moments pooled;
+      pooled.count = ma.count + mb.count;
+      pooled.syy = ma.syy + mb.syy, pooled.szz = ma.szz + mb.szz, pooled.syz = ma.syz + mb.syz;
+      if (const auto f = fit_line(pooled)) {
+        Line l = f->line;
+        l.c = l.n.dot(ma.mean);
+        l.orient_towards(origin_);
+        la = l;
+        l = f->line;
+        l.c = l.n.dot(mb.mean);
+        l.orient_towards(origin_);
+        lb = l;
+      }
+    }
+    // Each plate a line there: the rms about its line, in noise sigmas.
+    auto rms_of = [&](const PointSums& ps, const Line& l) {
+      if (ps.n < 2) return 0.0;
+      const Moments m = s_.moments(ps);
+      const Vec2 d = l.direction();
+      // Second moment across the line about the points' own mean, and the
+      // mean's offset from it.
+      const double across = d.y() * d.y() * m.syy + d.x() * d.x() * m.szz - 2.0 * d.x() * d.y() * m.syz;
+      const double off = l.signed_distance(m.mean);
+      return std::sqrt(std::max(0.0, across / ps.n + off * off)) / sig;
+    };
+    ev.fit = std::max(rms_of(sa, la), rms_of(sb, lb));
+    double r0[3] = {0.0, 0.0, 0.0}, r1 = 0.0, event = 0.0;
+    int into = 0;   // rays into the open joint that found something
+    int stray = 0;  // points between the plates of an open joint that fit nothing of it
+    // Each point counts `w` times (the plates' points are sampled, below).
+    auto weigh_point = [&](const Vec2& q, bool between, int w = 1) {
+      ev.points += w;
+      const double da = c.pa.line.signed_distance(q), db = c.pb.line.signed_distance(q);
+      // A ray into the joint: between the plates' ends, inside the opening,
+      // behind a plate (the higher plate's edge face stands in front of the
+      // lower one). Part of the one event weighed below.
+      if (between && c.open_joint && std::min(da, db) < -tol_ && c.opening.contains(q)) {
+        ++into;
+        return;
+      }
+      double d = std::min(la.distance(q), lb.distance(q));
+      for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q));
+      if (d > tol_) ev.unexplained += w;
+      if (between && c.open_joint && d > tol_) {
+        ++stray;  // weighed below as a random event under either reading
+        return;
+      }
+      for (int k = 0; k < 3; ++k) r0[k] += w * rho(nulls[k].distance(q));
+      r1 += w * rho(d);
+    };
+    // The plates' points beside the joint, every stride-th, weighted;
+    // everything between the plates' ends.
+    for (int i = c.pa.last; i >= w0; i -= stride) weigh_point(pt(i), false, std::min(stride, i - w0 + 1));
+    for (int i = c.pa.last + 1; i < c.pb.first && i <= w1; ++i) weigh_point(pt(i), true);
+    for (int i = c.pb.first; i <= w1; i += stride) weigh_point(pt(i), false, std::min(stride, w1 - i + 1));
+    const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
+    for (const Vec2& o : outliers_between(s_.cols[w0], s_.cols[w1])) {
+      // Removed points count between the plates' ends only (elsewhere they
+      // are the outliers that step 1 found).
+      const auto k = &o - s_.outlier_points.data();
+      const int col = s_.outlier_cols[static_cast<std::size_t>(k)];
+      if (col > ca && col < cb) weigh_point(o, true);
+    }
+    // "No joint" must explain the k rays into the joint (invalid columns and
+    // the points counted above) and the stray points between the plates as
+    // one random event, a dropout run or a reflection cluster, of k columns:
+    // ln(1 / p) for its start, p the rate of such events per column elsewhere
+    // in the profile, and ln(1 / q) for each further column, q the share of
+    // their columns that continue one (Laplace's rule for both). The joint
+    // must explain its stray points so too (a reflection in the gap, or the
+    // part of a reflection cluster that no gap there could show).
+    // The event is of the kind most of its columns are (invalid, or points).
+    if (c.open_joint && ca < cb) {
+      const int invalid = s_.invalid_columns_between(ca, cb), k = into + stray + invalid;
+      auto random_event = [&](int cols, std::uint8_t type) {
+        if (cols <= 0) return 0.0;
+        int own_gone = 0;
+        const int own_events = events_between(ca, cb, type, &own_gone);
+        const double events = std::max(0, events_[type - 1] - own_events);
+        const double gone = std::max(0, gone_[type - 1] - own_gone);
+        const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
+        return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
+      };
+      event = random_event(k, invalid >= into + stray ? kInvalidEvent : kPointEvent) - random_event(stray, kPointEvent);
+    }
+    ev.strength = std::min({r0[0], r0[1], r0[2]}) - r1 + event;
+    return ev;
   }
 
   static Plate plate_of(const Segment& sg) { return Plate{sg.first, sg.last, sg.line, sg.centroid}; }
@@ -173,13 +505,30 @@ class Matcher {
     return edge_at(pl, pt(end_index), beyond_col, face_dir, faces, more_faces);
   }
   // The same from an end point given by its position.
+  // Rounded or chamfered edges are looked for (rounding()) unless `sharp`
+  // (a bevel's root edge: its root face falls away from the bevel too).
   Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
-               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}) const {
+               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false) const {
     const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
     if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0) far = *x;
-    const double width = (far - near).dot(dir);
+    double width = (far - near).dot(dir);
+    // A rounded or chamfered edge: the points in the columns right beyond
+    // the plate's end fall away behind its line, moving on along it. The
+    // edge (where the plate's top and its edge face would meet) lies past
+    // them: where a wall below them starts, or for a circular rounding
+    // tangent to the plate at (a, h) along and behind it, r = (a^2 + h^2) /
+    // 2h along; the interval [a, r] is the edge's uncertainty.
+    // A face point seen below it still fixes the edge exactly.
+    const Rounding rd = sharp ? Rounding{} : rounding(pl, near, dir, beyond_col);
+    double r = 0.0;
+    if (rd.along > 0.0) {
+      r = rd.wall ? rd.along
+                  : std::clamp((rd.along * rd.along + rd.depth * rd.depth) / (2.0 * rd.depth), rd.along,
+                               rd.along + kMaxRoundingMm);
+      width = std::max(width, r + tol_);
+    }
     if (face_dir && p_.square_edges) {
       Vec2 sum = Vec2::Zero();
       int k = 0;
@@ -196,7 +545,44 @@ class Matcher {
       }
       if (k > 0) return Edge{sum / k, 0.0};
     }
-    return Edge{0.5 * (near + far), 0.5 * width};
+    if (rd.along > 0.0) return Edge{near + r * dir, std::max(0.5 * (r - rd.along), tol_)};
+    return Edge{0.5 * (near + far), 0.5 * (far - near).dot(dir)};
+  }
+
+  // Rounded and chamfered edges are at most this wide (mm).
+  static constexpr double kMaxRoundingMm = 3.0;
+  struct Rounding {
+    double along = 0.0;  // the farthest point's distance along the plate past its end (0: none)
+    double depth = 0.0;  // its depth behind the plate's line
+    bool wall = false;   // below it the points go straight down: the edge face
+  };
+  // The kept points in consecutive columns from beyond_col on (away from the
+  // plate) that lie behind plate pl's line, past its end `near` along `dir`,
+  // within kMaxRoundingMm.
+  Rounding rounding(const Plate& pl, const Vec2& near, const Vec2& dir, int beyond_col) const {
+    Rounding rd;
+    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), beyond_col);
+    if (it == s_.cols.end() || *it != beyond_col) return rd;
+    int i = static_cast<int>(it - s_.cols.begin());
+    const int n = static_cast<int>(s_.points.size());
+    const int step = (pt(i) - near).dot(dir) >= 0.0 && i + 1 < n && (pt(i + 1) - near).dot(dir) >= (pt(i) - near).dot(dir)
+                         ? +1
+                         : -1;
+    for (int prev_col = beyond_col - step; i >= 0 && i < n && s_.cols[i] == prev_col + step; prev_col = s_.cols[i], i += step) {
+      const double a = (pt(i) - near).dot(dir), h = -pl.line.signed_distance(pt(i));
+      if (h <= tol_ || a < -tol_ || a > kMaxRoundingMm) break;
+      // A rounding or a 45-degree chamfer never drops more than it runs on
+      // (h <= a); a point that does is on the edge face below it, or a ray
+      // into a gap past a sharp edge.
+      if (h > a + tol_) {
+        rd.wall = rd.along > 0.0;
+        break;
+      }
+      // Rising again: past the bottom of a notch, on the other plate's side.
+      if (h < rd.depth - tol_) break;
+      if (a > rd.along) rd.along = a, rd.depth = h;
+    }
+    return rd;
   }
 
   // Kept points [from, to] (empty if from > to).
@@ -227,8 +613,12 @@ class Matcher {
   std::optional<Pair> pair_of(int i, int j) const { return pair_of(plate_of(s_.segments[i]), plate_of(s_.segments[j])); }
   // Plates a and b (a first in scan order) as a pair.
   std::optional<Pair> pair_of(const Plate& a, const Plate& b) const {
+    if (!near_enough(a, b)) return std::nullopt;
+    return meet(a, b);
+  }
+  // Plates a and b as a pair wherever their lines meet (at more than 5 degrees).
+  std::optional<Pair> meet(const Plate& a, const Plate& b) const {
     Pair pr{a, b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
-    if (!near_enough(pr.a, pr.b)) return std::nullopt;
     const auto x = intersect(pr.a.line, pr.b.line, std::sin(5.0 * kDeg));
     if (!x) return std::nullopt;
     pr.x = *x;
@@ -422,6 +812,7 @@ class Matcher {
         c.gap_paper = flange.line.distance(near);
         c.bp[2] = flange.line.project(f_end_pt);
         c.bp[3] = toe;
+        c.add_line(Line{flange.line.n, flange.line.n.dot(toe)});  // the web's bottom, if seen
       } else {
         c.gap = 0.0;
         c.gap_paper = 0.0;
@@ -429,6 +820,7 @@ class Matcher {
         c.bp[3] = pr->x;
       }
       c.score = std::min(a.count(), b.count());
+      c.pa = a, c.pb = b;
       c.accepted = check(c, "angle", c.angle, fp.angle_deg, "deg") && check(c, "gap", c.gap, fp.gap_mm, "mm");
       offer(c);
     }
@@ -484,6 +876,7 @@ class Matcher {
         c.angle = angle_between_deg(pr->ua, pr->ub);
         c.gap = (er.point - el.point).norm();
         c.edge_unc = el.half_width_mm + er.half_width_mm;
+        c.track_unc = 0.5 * c.edge_unc;
         c.track = 0.5 * (el.point + er.point);
         c.bp[0] = outer(a, pt(a.first));
         c.bp[1] = el.point;
@@ -491,6 +884,10 @@ class Matcher {
         c.bp[3] = er.point;
         c.bp[4] = outer(b, pt(b.last));
         c.score = std::min(a.count(), b.count());
+        c.pa = a, c.pb = b;
+        // The end faces in a notch, square to the outer faces at the edges.
+        c.add_line(Line{a.line.direction(), a.line.direction().dot(el.point)});
+        c.add_line(Line{b.line.direction(), b.line.direction().dot(er.point)});
         c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
         offer(c);
       }
@@ -539,6 +936,10 @@ class Matcher {
         std::optional<LineFit> wall;
         if (scratch_.size() >= 3) wall = fit_line(scratch_);
         std::optional<Vec2> wf, wt;
+        // With square edges the face must be near square to the upper
+        // plate: points between the plates at 45 degrees are a chamfered or
+        // rounded top edge, the face itself hidden below it.
+        if (wall && p_.square_edges && acute_angle_deg(wall->line, upper.line) < 55.0) wall.reset();
         if (wall) {
           wall->line.orient_towards(origin_);
           wf = intersect(wall->line, lower.line, std::sin(20.0 * kDeg));
@@ -586,7 +987,7 @@ class Matcher {
           const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
           const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to));
           top = e.point;
-          c.edge_unc = e.half_width_mm;
+          c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);
           if (lp.upper_thickness_mm > 0.0) {
             bottom = top - lp.upper_thickness_mm * upper.line.n;
@@ -602,6 +1003,8 @@ class Matcher {
         c.bp[3] = top;
         c.bp[4] = outer(upper, pt(u_out));
         c.score = std::min(a.count(), b.count());
+        c.pa = a, c.pb = b, c.parallel = true;
+        if (wall) c.add_line(wall->line);
         c.accepted = check(c, "step", c.step, lp.step_mm, "mm") && check(c, "gap", c.gap, lp.gap_mm, "mm") &&
                      check(c, "angle", c.angle, lp.angle_deg, "deg");
         offer(c);
@@ -667,6 +1070,7 @@ class Matcher {
     c.gap = std::abs((er.point - el.point).dot(lower.line.direction()));
     c.angle = angle_between_deg(a.centroid - el.point, b.centroid - er.point);
     c.edge_unc = el.half_width_mm + er.half_width_mm;
+    c.track_unc = 0.5 * c.edge_unc;
     c.track = lower.line.project(0.5 * (el.point + er.point));
     c.bp[0] = outer(a, pt(a.first));
     c.bp[1] = el.point;
@@ -674,6 +1078,9 @@ class Matcher {
     c.bp[3] = er.point;
     c.bp[4] = outer(b, pt(b.last));
     c.score = 1e6 * evidence + c.gap + c.mismatch;
+    c.pa = a, c.pb = b, c.open_joint = true, c.parallel = true;
+    c.opening = {el.point, er.point, outward(a, el.point), outward(b, er.point), el.half_width_mm + tol_,
+                 er.half_width_mm + tol_};
     c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
     offer(c);
   }
@@ -750,10 +1157,16 @@ class Matcher {
     // Two plates in neighbouring long segments (or with one between them, an
     // edge face) with something between them...
     for (int q1 = 0; q1 + 1 < n_long(); ++q1) {
-      for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
+      // The edge preparation (chamfers, roundings) and walls seen in the gap
+      // can be long segments between them: any number, while the plates'
+      // facing ends are near enough, none continuing either plate.
+      for (int q2 = q1 + 1; q2 < n_long(); ++q2) {
+        if ((pt(seg(q2).first) - pt(seg(q1).last)).norm() > p_.max_joint_width_mm) break;
         Plate a = extended(q1, -1), b = extended(q2, +1);
         if (!near_enough(a, b)) continue;
-        if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
+        bool pieces = false;
+        for (int m = q1 + 1; m < q2 && !pieces; ++m) pieces = continues_either(seg(m), q1, q2);
+        if (pieces) continue;
         // Each plate reaches over the consecutive points between them that lie
         // on its line (within the surface tolerance): noise cuts a far plate
         // into pieces too short to be segments. Not across a hole (a run of
@@ -965,14 +1378,8 @@ class Matcher {
     if (a_last == pr.a.last && b_first == pr.b.first) return pr;
     const auto a = plate_of(pr.a.first, a_last), b = plate_of(b_first, pr.b.last);
     if (!a || !b) return std::nullopt;
-    Pair out{*a, *b, Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), false};
-    const auto x = intersect(out.a.line, out.b.line, std::sin(5.0 * kDeg));
-    if (!x) return std::nullopt;
-    out.x = *x;
-    out.ua = (out.a.centroid - out.x).normalized();
-    out.ub = (out.b.centroid - out.x).normalized();
-    out.valley = (out.ua + out.ub).dot(origin_ - out.x) > 0.0;
-    out.trimmed = true;
+    auto out = meet(*a, *b);
+    if (out) out->trimmed = true;
     return out;
   }
 
@@ -1120,8 +1527,8 @@ class Matcher {
           if (!r_found && br.line.distance(o) <= tol_ && (o - pr->x).dot(pr->ub) > 0.0)
             r_end = o, r_col = col, r_found = true;  // the first
         }
-        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to));
-        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to));
+        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to), {}, true);
+        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to), {}, true);
       }
       // The plates' surface direction: from the tops, else square to the bisector.
       Vec2 dp;
@@ -1144,6 +1551,7 @@ class Matcher {
       c.gap = std::abs(dp.dot(er.point - el.point));
       c.mismatch = std::abs(np.dot(er.point - el.point));
       c.edge_unc = el.half_width_mm + er.half_width_mm;
+      c.track_unc = 0.5 * c.edge_unc;
       c.track = low + dp.dot(mid - low) * dp;
       double depth = 0.0;
       int sides = 0;
@@ -1172,6 +1580,11 @@ class Matcher {
       if (tr) c.bp[6] = outer(*tr, pt(tr->last));
       // Prefer readings with both plate tops, then the best supported bevels.
       c.score = 1e6 * (tl.has_value() + tr.has_value()) + std::min(bl.count(), br.count());
+      c.pa = bl, c.pb = br, c.open_joint = true;
+      if (tl) c.add_line(tl->line);
+      if (tr) c.add_line(tr->line);
+      const Vec2 across = dp.dot(er.point - el.point) >= 0.0 ? dp : Vec2(-dp);
+      c.opening = {el.point, er.point, across, -across, el.half_width_mm + tol_, er.half_width_mm + tol_};
       c.accepted = check(c, "angle", c.angle, vp.angle_deg, "deg") && check(c, "gap", c.gap, vp.gap_mm, "mm") &&
                    check(c, "mismatch", c.mismatch, vp.mismatch_mm, "mm") &&
                    check(c, "depth", c.depth, vp.depth_mm, "mm");
@@ -1221,12 +1634,12 @@ std::string_view break_point_name(JointType joint, int index) {
 
 Tracker::Tracker(const TrackerParams& params) : params_(params) {}
 
-const TrackResult& Tracker::track(const ProfileView& profile) {
-  track(profile, result_);
+const TrackResult& Tracker::track(const ProfileView& profile, const TrackPrior* prior) {
+  track(profile, result_, prior);
   return result_;
 }
 
-void Tracker::track(const ProfileView& profile, TrackResult& out) {
+void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPrior* prior) {
   out.status = TrackStatus::NoData;
   out.reason.clear();
   out.joint = params_.joint;
@@ -1235,23 +1648,54 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
   out.gap_mm = out.gap_paper_mm = out.angle_deg = out.mismatch_mm = kNaN;
   out.step_mm = out.depth_mm = out.area_mm2 = kNaN;
   out.edge_uncertainty_mm = 0.0;
+  out.track_uncertainty_mm = 0.0;
+  out.noise_mm = 0.0;
+  out.confidence = 0.0;
+  out.strength = 0.0;
+  out.rival_track_point.reset();
+  out.rival_strength = 0.0;
+  out.readings.clear();
   out.segments.clear();
 
-  segment_profile(profile, params_.segmentation, seg_, params_.noise_aware_detach ? params_.surface_tol_mm : 0.0,
-                  params_.split_rough_segments ? params_.surface_tol_mm : 0.0,
-                  params_.noise_aware_islands ? params_.surface_tol_mm : 0.0);
+  // The tolerances follow the profile's noise (tracker/noise.h).
+  const SegmentationParams& sp = params_.segmentation;
+  out.noise_mm = params_.noise.sigma_mm > 0.0 ? params_.noise.sigma_mm
+                                              : estimate_noise_mm(profile, sp.roi_first, sp.roi_last);
+  TrackerParams p = scaled_for_noise(params_, out.noise_mm);
+  segment_profile(profile, p.segmentation, seg_, p.noise_aware_detach ? p.surface_tol_mm : 0.0,
+                  p.split_rough_segments ? p.surface_tol_mm : 0.0, p.noise_aware_islands ? p.surface_tol_mm : 0.0);
   out.valid_points = seg_.valid_points;
   out.outliers = seg_.outliers;
   if (!seg_.error.empty()) {
     out.reason = seg_.error;
     return;
   }
-  const int s_min = std::max(2, params_.segmentation.segments.min_segment_points);
+  const int s_min = std::max(2, p.segmentation.segments.min_segment_points);
   long_.clear();
   for (std::size_t i = 0; i < seg_.segments.size(); ++i) {
     const Segment& sg = seg_.segments[i];
     out.segments.push_back({sg.first_col, sg.last_col, sg.count(), sg.line, sg.rms_mm});
     if (sg.fitted && sg.count() >= s_min) long_.push_back(static_cast<int>(i));
+  }
+  // The plates' own deviation from lines (waviness, mill scale, noise that
+  // is correlated over neighbouring columns) is noise to the templates too:
+  // the point-weighted median rms of the long segments.
+  if (params_.noise.adapt && params_.noise.sigma_mm <= 0.0 && !long_.empty()) {
+    rms_.clear();
+    for (int i : long_) rms_.emplace_back(seg_.segments[i].rms_mm, seg_.segments[i].count());
+    std::sort(rms_.begin(), rms_.end());
+    int total = 0, acc = 0;
+    for (const auto& [rms, count] : rms_) total += count;
+    double median = 0.0;
+    for (const auto& [rms, count] : rms_)
+      if ((acc += count) * 2 >= total) {
+        median = rms;
+        break;
+      }
+    if (median > out.noise_mm) {
+      out.noise_mm = median;
+      p.surface_tol_mm = std::max(p.surface_tol_mm, p.noise.surface_k * median);
+    }
   }
   char buf[160];
   if (static_cast<int>(seg_.points.size()) < s_min) {
@@ -1261,7 +1705,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
     return;
   }
   out.status = TrackStatus::Rejected;
-  const int needed = params_.joint == JointType::Butt ? 1 : 2;
+  const int needed = p.joint == JointType::Butt ? 1 : 2;
   if (static_cast<int>(long_.size()) < needed) {
     std::snprintf(buf, sizeof buf, "too few segments: %d with at least %d points, the %s needs %d",
                   static_cast<int>(long_.size()), s_min, to_string(params_.joint).data(), needed);
@@ -1269,13 +1713,67 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
     return;
   }
   Candidate best;
-  Matcher m(seg_, params_, long_, scratch_, bevels_);
-  if (!m.run(params_.joint, best)) {
-    out.reason = shape_of(params_.joint);
+  Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_, next_long_);
+  if (!m.run(params_.joint, best, prior)) {
+    if (prior && std::isfinite(m.outside_mm())) {
+      std::snprintf(buf, sizeof buf, "no joint within %.3g mm of the predicted point (nearest reading %.3g mm away)",
+                    prior->radius_mm, m.outside_mm());
+      out.reason = buf;
+    } else {
+      out.reason = shape_of(params_.joint);
+    }
     return;
   }
   out.status = best.accepted ? TrackStatus::Ok : TrackStatus::Rejected;
   if (!best.accepted) out.reason = best.reason;
+  if (best.accepted) {
+    // How sure the reading is (ConfidenceParams, docs/JOINTS.md "Confidence").
+    const ConfidenceParams& cp = p.confidence;
+    const double e = best.evidence.strength;
+    out.strength = e;
+    const double hidden = std::clamp(cp.hidden_prior, 1e-12, 1.0 - 1e-12);
+    const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
+    double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
+    m.for_each_rival(*best.track, [&](const Vec2& track, double strength) {
+      rivals += std::exp(std::min(strength - e, 700.0));
+      if (!out.rival_track_point || strength > out.rival_strength) {
+        out.rival_track_point = track;
+        out.rival_strength = strength;
+      }
+    });
+    m.for_each_reading([&](const Vec2& track, double strength) { out.readings.push_back({track, strength}); });
+    out.confidence = 1.0 / (1.0 + against + rivals);
+    // The reading must explain the points near the joint: a bead, a tack
+    // weld or a body there that fits none of its lines is no part of this
+    // joint, and the joint may lie under it.
+    const Evidence& ev = best.evidence;
+    if (ev.unexplained > cp.unexplained_points + cp.unexplained_share * ev.points) {
+      out.status = TrackStatus::Rejected;
+      std::snprintf(buf, sizeof buf,
+                    "unexplained: %d of the %d points within %g mm of the joint fit none of its lines "
+                    "(a bead, a tack weld or an obstacle?)",
+                    ev.unexplained, ev.points, cp.window_mm);
+      out.reason = buf;
+      out.confidence = 0.0;
+    } else if (ev.fit > cp.max_plate_rms_sigma) {
+      // A "plate" that is no line there (a bead's or tack weld's surface, a
+      // rounded part): the template's lines do not describe what is seen.
+      out.status = TrackStatus::Rejected;
+      std::snprintf(buf, sizeof buf, "curved: a plate's points lie %.2g noise sigmas (rms) about its line (a bead or a tack weld?)",
+                    ev.fit);
+      out.reason = buf;
+      out.confidence = 0.0;
+    } else if (out.confidence < cp.min_confidence) {
+      out.status = TrackStatus::Rejected;
+      if (rivals > against)
+        std::snprintf(buf, sizeof buf, "ambiguous: confidence %.2f, another reading %.3g mm away is as strong (%.3g vs %.3g)",
+                      out.confidence, (*out.rival_track_point - *best.track).norm(), out.rival_strength, e);
+      else
+        std::snprintf(buf, sizeof buf, "weak: confidence %.2f, evidence %.3g where noise reaches %.3g", out.confidence,
+                      e, unseen);
+      out.reason = buf;
+    }
+  }
   out.break_points = best.bp;
   out.track_point = best.track;
   out.gap_mm = best.gap;
@@ -1286,6 +1784,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out) {
   out.depth_mm = best.depth;
   out.area_mm2 = best.area;
   out.edge_uncertainty_mm = best.edge_unc;
+  out.track_uncertainty_mm = best.track_unc;
 }
 
 }  // namespace vts::tracker

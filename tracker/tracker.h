@@ -52,6 +52,33 @@ struct TrackResult {
   // the gap can lie given the column rays (0 where lines meet or an edge face
   // was seen). Ideal profiles cannot pin an edge better than this.
   double edge_uncertainty_mm = 0.0;
+  // The same for the track point: half the interval it can lie in, where
+  // plate edges place it (a butt's or corner's edges, a lap's top edge, a
+  // v-groove's root edges); 0 where lines meet.
+  double track_uncertainty_mm = 0.0;
+  // The profile's noise across the surface (1 sigma, mm) the tolerances were
+  // scaled with: NoiseParams::sigma_mm, or estimated from the profile (the
+  // larger of the second differences' estimate, estimate_noise_mm, and the
+  // long segments' median rms about their lines: waviness).
+  double noise_mm = 0.0;
+  // How sure the reading is, 0..1 (docs/JOINTS.md, "Confidence"): its
+  // posterior probability against the distinct rival readings and "the joint
+  // is not in view" (ConfidenceParams). Readings below
+  // ConfidenceParams::min_confidence are rejected. 0 when there is none.
+  double confidence = 0.0;
+  double strength = 0.0;  // the reading's evidence (ConfidenceParams), log-likelihood ratio
+  // The strongest accepted reading farther than ConfidenceParams::distinct_mm
+  // away, and its evidence (a competing joint: a reflection, a scratch, a
+  // second feature); empty if none.
+  std::optional<Vec2> rival_track_point;
+  double rival_strength = 0.0;
+  // Every accepted reading (at most 32, the strongest), the chosen one among
+  // them: where the template saw the joint and how strongly.
+  struct Reading {
+    Vec2 track_point = Vec2::Zero();
+    double strength = 0.0;
+  };
+  std::vector<Reading> readings;
 
   // Step 4's segments in scan order (first/last are profile columns).
   struct SegmentInfo {
@@ -79,10 +106,11 @@ class Tracker {
   const TrackerParams& params() const { return params_; }
   void set_params(const TrackerParams& params) { params_ = params; }
 
-  // Tracks one profile into `out` (its buffers are reused).
-  void track(const ProfileView& profile, TrackResult& out);
+  // Tracks one profile into `out` (its buffers are reused). With a prior,
+  // only readings within its radius of its point count.
+  void track(const ProfileView& profile, TrackResult& out, const TrackPrior* prior = nullptr);
   // Tracks one profile into the tracker's own result.
-  const TrackResult& track(const ProfileView& profile);
+  const TrackResult& track(const ProfileView& profile, const TrackPrior* prior = nullptr);
 
   // Steps 1 to 4 of the last profile tracked.
   const Segmentation& segmentation() const { return seg_; }
@@ -94,6 +122,9 @@ class Tracker {
   std::vector<int> long_;  // indices of segments with at least s_min points
   std::vector<Vec2> scratch_;
   std::vector<int> bevels_;
+  std::vector<std::uint8_t> off_plates_;
+  std::vector<int> next_long_;
+  std::vector<std::pair<double, int>> rms_;
 };
 
 }  // namespace vts::tracker

@@ -60,6 +60,15 @@ const ParamField kFields[] = {
     VTS_PARAM("vgroove.mismatch_mm", {}, params.vgroove.mismatch_mm),
     VTS_PARAM("vgroove.depth_mm", {}, params.vgroove.depth_mm),
     VTS_PARAM("vgroove.min_bevel_points", (Limit{2, 4096}), params.vgroove.min_bevel_points),
+    VTS_PARAM("noise.sigma_mm", (Limit{0, kInf}), params.noise.sigma_mm),
+    VTS_PARAM("noise.adapt", {}, params.noise.adapt),
+    VTS_PARAM("confidence.window_mm", (Limit{0, kInf, true}), params.confidence.window_mm),
+    VTS_PARAM("confidence.distinct_mm", (Limit{0, kInf, true}), params.confidence.distinct_mm),
+    VTS_PARAM("confidence.hidden_prior", (Limit{0, 1, true}), params.confidence.hidden_prior),
+    VTS_PARAM("confidence.min_confidence", (Limit{0, 1}), params.confidence.min_confidence),
+    VTS_PARAM("confidence.unexplained_points", (Limit{0, 4096}), params.confidence.unexplained_points),
+    VTS_PARAM("confidence.unexplained_share", (Limit{0, 1}), params.confidence.unexplained_share),
+    VTS_PARAM("confidence.max_plate_rms_sigma", (Limit{0, kInf, true}), params.confidence.max_plate_rms_sigma),
 };
 #undef VTS_PARAM
 

@@ -20,6 +20,11 @@ constexpr std::pair<const char*, double R::*> kValues[] = {
     {"depth_mm", &R::depth_mm},
     {"area_mm2", &R::area_mm2},
     {"edge_uncertainty_mm", &R::edge_uncertainty_mm},
+    {"track_uncertainty_mm", &R::track_uncertainty_mm},
+    {"noise_mm", &R::noise_mm},
+    {"confidence", &R::confidence},
+    {"strength", &R::strength},
+    {"rival_strength", &R::rival_strength},
 };
 constexpr std::pair<const char*, int R::*> kCounts[] = {
     {"valid_points", &R::valid_points},
@@ -83,6 +88,7 @@ Json result_to_json(std::int64_t profile, const R& r) {
   }
   j["break_points"] = std::move(bps);
   j["track_point"] = r.track_point ? point(*r.track_point) : Json();
+  j["rival_track_point"] = r.rival_track_point ? point(*r.rival_track_point) : Json();
   for (const auto& [key, field] : kValues) j[key] = num(r.*field);
   for (const auto& [key, field] : kCounts) j[key] = r.*field;
   Json segs = Json::array();
@@ -101,6 +107,19 @@ Json result_to_json(std::int64_t profile, const R& r) {
 
 std::string result_to_json_line(std::int64_t profile, const R& r) {
   std::string line = result_to_json(profile, r).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  line += '\n';
+  return line;
+}
+
+std::string sequence_to_json_line(std::int64_t profile, const R& r, const tk::Follower& follower) {
+  Json j = result_to_json(profile, r);
+  Json region;
+  if (const auto& reg = follower.region())
+    region = Json{{"y", num(reg->track_point.x())}, {"z", num(reg->track_point.y())}, {"radius_mm", num(reg->radius_mm)}};
+  j["sequence"] = Json{{"locked", follower.locked()},
+                       {"region", std::move(region)},
+                       {"filtered", follower.filtered() ? point(*follower.filtered()) : Json()}};
+  std::string line = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   line += '\n';
   return line;
 }
@@ -126,6 +145,7 @@ R result_from_json(const Json& j, std::int64_t* profile) {
     r.break_points[i] = point_from(bp);
   }
   r.track_point = point_from(at(j, "track_point"));
+  r.rival_track_point = point_from(at(j, "rival_track_point"));
   for (const auto& [key, field] : kValues) r.*field = value(j, key);
   for (const auto& [key, field] : kCounts) r.*field = integer<int>(j, key);
   const Json& segs = at(j, "segments");

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tracker/follower.h"
 #include "tracker/tracker.h"
 
 namespace vts::trackio {
@@ -25,6 +26,13 @@ Json result_to_json(std::int64_t profile, const tracker::TrackResult& result);
 // The same as one line of JSON Lines, '\n' included (invalid UTF-8 in a
 // reject reason is replaced, never thrown on).
 std::string result_to_json_line(std::int64_t profile, const tracker::TrackResult& result);
+
+// The same for a profile read in a sequence (tracker::Follower): the
+// result, then "sequence": {"locked": whether the joint was followed,
+// "region": the region of interest searched {"y", "z", "radius_mm"} or null,
+// "filtered": the smoothed track point {"y", "z"} or null}.
+std::string sequence_to_json_line(std::int64_t profile, const tracker::TrackResult& result,
+                                  const tracker::Follower& follower);
 
 // Back from such an object: the result, and its profile index in *profile
 // when given. Values come back as written (rounded to 1e-6; `meaning` is not

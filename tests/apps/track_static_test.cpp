@@ -59,6 +59,57 @@ double num(const Json& j) { return j.get<double>(); }
 
 }  // namespace
 
+TEST_CASE("vts track: a sequence rejects a joint that jumps, --independent reads it", "[cli][track]") {
+  // Twelve profiles of the analytic fillet, 0.5 mm apart along the seam;
+  // profile 6 shows it 25 mm to the side (a second joint, or the sensor's
+  // view of something else): read alone it is a fillet there; in the
+  // sequence, once the joint is confirmed by three readings, it lies outside
+  // the region of interest (1.5 mm + 0.5 x 0.5 mm) and is rejected.
+  TempDir dir;
+  const AnalyticFillet f;
+  std::string csv = "profile,y,z,valid\n";
+  for (int k = 0; k < 12; ++k)
+    for (int i = 0; i < f.n; ++i)
+      csv += std::to_string(k) + "," + fmt9(f.y(i) + (k == 6 ? 25.0 : 0.0)) + "," + fmt9(f.z(i)) + ",1\n";
+  dir.write("seq.csv", csv);
+  Result r = run_vts(dir, "track seq.csv --travel 0.5");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  auto lines = json_lines(r.out);
+  REQUIRE(lines.size() == 12);
+  for (int k = 0; k < 12; ++k) {
+    const Json& j = lines[k];
+    INFO("profile " << k << ": " << j.dump());
+    REQUIRE(j.contains("sequence"));
+    if (k < 2) {
+      CHECK(j["status"] == "rejected");
+      CHECK(j["reason"] == "acquiring: " + std::to_string(k + 1) + " of 3 consistent readings");
+      CHECK(j["sequence"]["locked"] == false);
+    } else if (k == 6) {
+      CHECK(j["status"] == "rejected");
+      CHECK(j["reason"].get<std::string>().rfind("no joint within 1.75 mm of the predicted point", 0) == 0);
+      CHECK(num(j["sequence"]["region"]["radius_mm"]) == Approx(1.75));
+    } else {
+      CHECK(j["status"] == "ok");
+      CHECK(j["sequence"]["locked"] == true);
+      CHECK(num(j["track_point"]["y"]) == Approx(0.0).margin(1e-4));
+      CHECK(num(j["sequence"]["filtered"]["y"]) == Approx(0.0).margin(1e-4));
+      CHECK(num(j["sequence"]["filtered"]["z"]) == Approx(100.0).margin(1e-4));
+    }
+  }
+  r = run_vts(dir, "track seq.csv --independent");
+  REQUIRE(r.code == 0);
+  lines = json_lines(r.out);
+  REQUIRE(lines.size() == 12);
+  CHECK_FALSE(lines[0].contains("sequence"));
+  CHECK(lines[6]["status"] == "ok");
+  CHECK(num(lines[6]["track_point"]["y"]) == Approx(25.0).margin(1e-4));
+  // --travel takes a number >= 0.
+  r = run_vts(dir, "track seq.csv --travel -1");
+  CHECK(r.code == 2);
+  CHECK(r.err == "vts track: --travel = '-1': out of range: expected >= 0 mm\n");
+}
+
 TEST_CASE("vts track: CSV of an analytic fillet gives the hand-computed joint", "[cli][track]") {
   TempDir dir;
   const AnalyticFillet f;
@@ -68,7 +119,7 @@ TEST_CASE("vts track: CSV of an analytic fillet gives the hand-computed joint", 
   for (int i = 0; i < 40; ++i) csv += "4," + fmt9(-10.0 + 0.5 * i) + ",80,1\n";
   csv += "9,0,50,1\n9,1,50,1\n9,2,50,0\n9,3,50,1\n";
   dir.write("fillet.csv", csv);
-  const Result r = run_vts(dir, "track fillet.csv");
+  const Result r = run_vts(dir, "track fillet.csv --independent");
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(r.err.empty());
@@ -139,7 +190,7 @@ TEST_CASE("vts track: CSV of an analytic fillet gives the hand-computed joint", 
   CHECK(lines[2]["outliers"] == 1);
 
   // --out: the same lines in the file, nothing on stdout; --joint changes the template.
-  const Result o = run_vts(dir, "track fillet.csv --out track.jsonl --joint corner");
+  const Result o = run_vts(dir, "track fillet.csv --out track.jsonl --joint corner --independent");
   REQUIRE(o.code == 0);
   CHECK(o.out.empty());
   const auto out_lines = json_lines(slurp(dir.path / "track.jsonl"));
@@ -164,18 +215,18 @@ TEST_CASE("vts track: parameters from a YAML file and options", "[cli][track]") 
             "    split_threshold_mm: 0.5\n"
             "fillet:\n"
             "  angle_deg: [30, 80]\n");
-  Result r = run_vts(dir, "track fillet.csv --params narrow.yaml");
+  Result r = run_vts(dir, "track fillet.csv --params narrow.yaml --independent");
   REQUIRE(r.code == 0);
   auto lines = json_lines(r.out);
   REQUIRE(lines.size() == 1);
   CHECK(lines[0]["status"] == "rejected");
   CHECK(lines[0]["reason"] == "angle 90 deg outside [30, 80]");
   // An option overrides the file.
-  r = run_vts(dir, "track fillet.csv --params narrow.yaml --angle 85,95");
+  r = run_vts(dir, "track fillet.csv --params narrow.yaml --angle 85,95 --independent");
   REQUIRE(r.code == 0);
   CHECK(json_lines(r.out)[0]["status"] == "ok");
   // The minimum segment size above the plates' point count: no plate is long enough.
-  r = run_vts(dir, "track fillet.csv --min-segment 200");
+  r = run_vts(dir, "track fillet.csv --min-segment 200 --independent");
   REQUIRE(r.code == 0);
   CHECK(json_lines(r.out)[0]["reason"] == "too few segments: 0 with at least 200 points, the fillet needs 2");
 }
@@ -222,7 +273,7 @@ TEST_CASE("vts track: bad input exits 2 naming file line field and value", "[cli
        "'two'\n"},
       {"track good.csv --params bad_key.yaml --out o.jsonl",
        "vts track: --params: bad_key.yaml:2: surface_tol: unknown key (expected one of: joint, surface_tol_mm, "
-       "max_joint_width_mm, square_edges, segmentation, fillet, corner, lap, butt, vgroove)\n"},
+       "max_joint_width_mm, square_edges, segmentation, fillet, corner, lap, butt, vgroove, noise, confidence)\n"},
       {"track good.csv --params bad_range.yaml --out o.jsonl",
        "vts track: --params: bad_range.yaml:2: corner.angle_deg: min 170 is greater than max 60\n"},
       {"track good.csv --params bad_joint.yaml --out o.jsonl",
@@ -257,7 +308,7 @@ TEST_CASE("vts track: EXR of the fillet cell from vts scan", "[cli][track][gl]")
   REQUIRE(run_vts(dir, "scan --cell fillet --ideal --profiles 3 --out f.exr").code == 0);
   // The joint comes from the file's scene. The fillet cell's sensor looks at
   // the root along the bisector from 100 mm: root (0, 100), 90 degrees, no gap.
-  Result r = run_vts(dir, "track f.exr");
+  Result r = run_vts(dir, "track f.exr --independent");
   INFO(r.err);
   REQUIRE(r.code == 0);
   auto lines = json_lines(r.out);
@@ -282,7 +333,7 @@ TEST_CASE("vts track: EXR of the fillet cell from vts scan", "[cli][track][gl]")
   // With the error model on, --truth tracks the ideal points: the same joint
   // to the ideal tolerances.
   REQUIRE(run_vts(dir, "scan --cell static-E --profiles 2 --seed 7 --out e.exr").code == 0);
-  r = run_vts(dir, "track e.exr --truth");
+  r = run_vts(dir, "track e.exr --truth --independent");
   REQUIRE(r.code == 0);
   lines = json_lines(r.out);
   REQUIRE(lines.size() == 2);

@@ -94,10 +94,13 @@ inline tk::ProfileView view_of(const Profile& p) { return {p.y_mm, p.z_mm, p.val
 // The largest value seen per joint and quantity, for the summary line.
 struct Worst {
   std::map<std::string, double> value;
+  int scans = 0;
+  int unsure = 0;  // rejected as weak or ambiguous (tracker::ConfidenceParams)
   void add(const std::string& key, double v) { value[key] = std::max(value[key], v); }
   std::string str() const {
     std::ostringstream o;
     for (const auto& [k, v] : value) o << k << " " << v << "; ";
+    if (scans > 0) o << unsure << " of " << scans << " scans not sure";
     return o.str();
   }
 };

@@ -239,13 +239,17 @@ TEST_CASE("tracker: gaps of 0 to 2 point spacings", "[tracker][accuracy][gap]") 
         for (double tilt : kTilts) {
           const Scan s = scan(w, standoff, tilt, 0.0);
           if (type == JointType::Butt &&
-              p.gap_mm < s.spacing_along(feature(w, "left_edge"), Vec2(1.0, 0.0))) {
-            // Coplanar plates with a gap narrower than the ray spacing: no ray
-            // need fall into it, so there may be no joint to see. If the
-            // tracker finds one, it must be right.
+              p.gap_mm < 2.0 * s.spacing_along(feature(w, "left_edge"), Vec2(1.0, 0.0))) {
+            // Coplanar plates with a gap narrower than two ray spacings: no
+            // ray, or one, need fall into it, so there may be no joint to
+            // see, or too little to be sure of (one ray into a gap is what
+            // one dropout or reflection gives: rejected as weak,
+            // ConfidenceParams). If the tracker reads one, it must be right.
             tk::Tracker tracker(params_for(w));
-            if (tracker.track(view_of(s.profile)).status == tk::TrackStatus::Rejected) {
-              CHECK(tracker.track(view_of(s.profile)).reason == "no gap or step between two parallel plates");
+            const tk::TrackResult& r = tracker.track(view_of(s.profile));
+            if (r.status == tk::TrackStatus::Rejected) {
+              INFO(describe(s, standoff, tilt, 0.0) << ": " << r.reason);
+              CHECK((r.reason == "no gap or step between two parallel plates" || r.reason.rfind("weak", 0) == 0));
               continue;
             }
           }

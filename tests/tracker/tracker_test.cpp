@@ -345,12 +345,15 @@ TEST_CASE("butt noisy: a run of 2 invalid columns on one line beats a reflection
   const double s = spacing_at(100.0);
   CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 2])) < s);
   CHECK(r.gap_mm == Approx(2.0 * s).margin(s));
-  // Without the rule (a run never long enough) the cluster, wider, wins.
+  // Without the rule (a run never long enough) the cluster is still no gap:
+  // its points lie 2 mm behind the plate along rays 11 degrees off the
+  // plate's normal, past where the wall of a square gap between its
+  // neighbours would stop them (the reading's opening, Matcher::weigh).
   auto never = params;
   never.butt.min_hole_columns = 1000;
   const auto r2 = track(p, tk::JointType::Butt, never);
-  REQUIRE(r2.status == tk::TrackStatus::Ok);
-  CHECK(std::abs(r2.track_point->x() - 10.0) > 10.0);
+  INFO(r2.reason);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.track_point->x() - 10.0) > 10.0));
 }
 
 TEST_CASE("butt noisy: points in front of both plates are no gap", "[tracker][butt]") {
@@ -366,10 +369,18 @@ TEST_CASE("butt noisy: points in front of both plates are no gap", "[tracker][bu
   for (int i = 0; i < 3; ++i) along_ray(p, k + i, -0.8);
   const auto r = track(p, tk::JointType::Butt, noisy_params(0.08));
   INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
-  REQUIRE(r.status == tk::TrackStatus::Ok);
+  // One column with no return is what a dropout gives too: too little to be
+  // sure of (ConfidenceParams), so the reading may be rejected as weak; but
+  // the cluster is never read as the gap.
   const double s = spacing_at(250.0);
-  CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 1])) < s);
-  CHECK(r.gap_mm < 2.0 * s);
+  if (r.status == tk::TrackStatus::Ok) {
+    CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 1])) < s);
+    CHECK(r.gap_mm < 2.0 * s);
+  } else {
+    CHECK(r.reason.rfind("weak", 0) == 0);
+    REQUIRE(r.track_point);
+    CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 1])) < s);
+  }
 }
 
 TEST_CASE("butt noisy: a reflection in the gap does not hide the walls seen in it", "[tracker][butt]") {
@@ -437,11 +448,16 @@ TEST_CASE("butt noisy: a plate reaches over a single noisy point to the points o
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK(std::abs(r.track_point->x()) < 1.0);
   CHECK(r.mismatch_mm == Approx(1.0).margin(0.3));
-  // Without the rule the stretch between the noisy points wins.
+  // Without the rule, and with the tolerances fixed (not scaled with the
+  // noise, NoiseParams::adapt), the stretch between the noisy points is a
+  // reading too, but a weak one (no ray into a gap there, points a little
+  // behind the plate): the gap's evidence wins (Matcher::weigh).
+  params.noise.adapt = false;
   params.reach_over_single_points = false;
   const auto r2 = track(p, tk::JointType::Butt, params);
+  INFO(r2.reason);
   REQUIRE(r2.status == tk::TrackStatus::Ok);
-  CHECK(std::abs(r2.track_point->x() - 21.5) < 3.0);
+  CHECK(std::abs(r2.track_point->x()) < 1.0);
 }
 
 TEST_CASE("butt noisy: a plate reaches over removed points on its line past a reflection", "[tracker][butt]") {
@@ -485,10 +501,12 @@ TEST_CASE("fillet noisy: each plate extends over the pieces of its line beyond i
   INFO(res.reason << ", " << res.segments.size() << " segments, " << res.outliers << " outliers");
   REQUIRE(res.status == tk::TrackStatus::Ok);
   CHECK(std::abs(res.angle_deg - 90.0) < 1.0);
+  // Without the rule the piece is one plate: the angle read from it is off,
+  // or (its points off the rest of the web) the reading is rejected.
   params.fillet.extend_plates = false;
   const auto res2 = track(p, tk::JointType::Fillet, params);
-  REQUIRE(res2.status == tk::TrackStatus::Ok);
-  CHECK(std::abs(res2.angle_deg - 90.0) > 2.0);
+  INFO(res2.reason);
+  CHECK(!(res2.status == tk::TrackStatus::Ok && std::abs(res2.angle_deg - 90.0) < 1.0));
 }
 
 TEST_CASE("fillet noisy: the web's edge is read from its last points on its line", "[tracker][fillet]") {
@@ -523,6 +541,9 @@ TEST_CASE("fillet noisy: the web's edge is read from its last points on its line
     INFO("variant " << variant << ": " << r.reason << ", " << r.outliers << " outliers");
     REQUIRE(r.status == tk::TrackStatus::Ok);
     CHECK(r.gap_mm == Approx(gap).margin(tol));
+    // The rule matters with the tolerances fixed: scaled with the noise
+    // (NoiseParams::adapt) they avoid this case without it.
+    params.noise.adapt = false;
     params.fillet.web_reaches = false;
     const auto r2 = track(p, tk::JointType::Fillet, params);
     CHECK(!(std::abs(r2.gap_mm - gap) <= tol));
@@ -610,6 +631,9 @@ TEST_CASE("butt noisy: plates split out of one merged segment extend over their 
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK(std::abs(r.track_point->x()) < spacing_at(250.0));
   CHECK(r.angle_deg == Approx(180.0).margin(2.0));
+  // The rule matters with the tolerances fixed: scaled with the noise
+  // (NoiseParams::adapt) they avoid this case without it.
+  params.noise.adapt = false;
   params.butt.extend_split_plates = false;
   const auto r2 = track(p, tk::JointType::Butt, params);
   CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.angle_deg - 180.0) <= 2.0));
@@ -647,6 +671,9 @@ TEST_CASE("butt noisy: a stub of the far plate merged across the gap", "[tracker
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK(std::abs(r.track_point->x()) < spacing_at(250.0));
   CHECK(r.gap_mm == Approx(1.0).margin(2.0 * spacing_at(250.0)));
+  // The rule matters with the tolerances fixed: scaled with the noise
+  // (NoiseParams::adapt) they avoid this case without it.
+  params.noise.adapt = false;
   params.butt.stub_across_hole = false;
   const auto r2 = track(p, tk::JointType::Butt, params);
   CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.track_point->x()) < spacing_at(250.0)));

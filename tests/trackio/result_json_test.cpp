@@ -23,6 +23,11 @@ TEST_CASE("trackio json: a result written by hand", "[trackio]") {
   r.break_points[1] = tk::Vec2(-1.0000004, 100.25);
   r.track_point = tk::Vec2(-0.0000001, 100.5);  // rounds to -0: written as 0
   r.gap_mm = 6.0;
+  r.noise_mm = 0.0512345678;
+  r.confidence = 0.25;
+  r.strength = 3.5;
+  r.rival_track_point = tk::Vec2(30.0, 101.0);
+  r.rival_strength = 4.0;
   r.valid_points = 500;
   r.outliers = 2;
   tk::TrackResult::SegmentInfo single;
@@ -33,9 +38,11 @@ TEST_CASE("trackio json: a result written by hand", "[trackio]") {
         R"({"profile":12,"joint":"butt","status":"rejected","reason":"gap 6 mm outside [0, 5]",)"
         R"("break_points":[{"name":"B1","meaning":")" +
             std::string(tk::break_point_name(tk::JointType::Butt, 1)) +
-            R"(","y":-1.0,"z":100.25}],"track_point":{"y":0.0,"z":100.5},"gap_mm":6.0,"gap_paper_mm":null,)"
+            R"(","y":-1.0,"z":100.25}],"track_point":{"y":0.0,"z":100.5},"rival_track_point":{"y":30.0,"z":101.0},)"
+            R"("gap_mm":6.0,"gap_paper_mm":null,)"
             R"("angle_deg":null,"mismatch_mm":null,"step_mm":null,"depth_mm":null,"area_mm2":null,)"
-            R"("edge_uncertainty_mm":0.0,"valid_points":500,"outliers":2,)"
+            R"("edge_uncertainty_mm":0.0,"track_uncertainty_mm":0.0,"noise_mm":0.051235,"confidence":0.25,)"
+            R"("strength":3.5,"rival_strength":4.0,"valid_points":500,"outliers":2,)"
             R"("segments":[{"first":7,"last":7,"points":1,"line":null,"rms_mm":0.0}]})"
             "\n");
 }

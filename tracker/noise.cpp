@@ -1,0 +1,59 @@
+#include "tracker/noise.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace vts::tracker {
+
+double estimate_noise_mm(const ProfileView& p, int roi_first, int roi_last) {
+  const int n = static_cast<int>(p.y_mm.size());
+  if (static_cast<int>(p.z_mm.size()) != n || (!p.valid.empty() && static_cast<int>(p.valid.size()) != n)) return 0.0;
+  const int lo = std::max(0, roi_first);
+  const int hi = roi_last < 0 ? n - 1 : std::min(n - 1, roi_last);
+  if (hi - lo < 4) return 0.0;
+  auto usable = [&](int i) {
+    // Comparisons are false for NaN: finite and flagged valid.
+    return (p.valid.empty() || p.valid[i] != 0) && std::abs(p.y_mm[i]) <= 1e30f && std::abs(p.z_mm[i]) <= 1e30f;
+  };
+  // Runs of five columns centred on i = lo + 2 + k * stride; squared
+  // distances (the median of their roots is the root of their median).
+  const int centres = hi - lo - 3;
+  const int stride = std::max(1, (centres + kNoiseSamples - 1) / kNoiseSamples);
+  std::array<float, kNoiseSamples + 1> d2;
+  int m = 0;
+  for (int i = lo + 2; i <= hi - 2 && m <= kNoiseSamples; i += stride) {
+    if (!usable(i - 2) || !usable(i - 1) || !usable(i) || !usable(i + 1) || !usable(i + 2)) continue;
+    const float ay = p.y_mm[i - 2], az = p.z_mm[i - 2];
+    const float cy = p.y_mm[i + 2] - ay, cz = p.z_mm[i + 2] - az;
+    const float len2 = cy * cy + cz * cz;
+    if (!(len2 > 1e-18f)) continue;
+    const float c = cy * (p.z_mm[i] - az) - cz * (p.y_mm[i] - ay);
+    d2[m++] = c * c / len2;
+  }
+  if (m < 8) return 0.0;
+  auto mid = d2.begin() + m / 2;
+  std::nth_element(d2.begin(), mid, d2.begin() + m);
+  // |N(0, 1.5 sigma^2)| has its median at 0.6745 sqrt(1.5) sigma.
+  return std::sqrt(static_cast<double>(*mid)) / (0.6744897501960817 * std::sqrt(1.5));
+}
+
+TrackerParams scaled_for_noise(const TrackerParams& params, double sigma_mm) {
+  TrackerParams t = params;
+  const NoiseParams& np = params.noise;
+  if (!np.adapt || !(sigma_mm > 0.0) || !std::isfinite(sigma_mm)) return t;
+  auto raise = [&](double& v, double k) { v = std::max(v, k * sigma_mm); };
+  raise(t.surface_tol_mm, np.surface_k);
+  OutlierParams& op = t.segmentation.outliers;
+  raise(op.threshold_mm, np.outlier_k);
+  raise(op.support_tol_mm, np.support_k);
+  SegmentParams& sp = t.segmentation.segments;
+  raise(sp.split_threshold_mm, np.split_k);
+  raise(sp.break_min_mm, np.break_k);
+  raise(sp.max_merge_offset_mm, np.merge_offset_k);
+  raise(sp.fit_tol_mm, np.fit_k);
+  return t;
+}
+
+}  // namespace vts::tracker
