@@ -1,12 +1,12 @@
 #include "apps/cli.h"
 
+#include "common/atomic_file.h"
 #include "common/parallel.h"
 
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <vector>
 
 namespace vts::cli {
@@ -98,25 +98,9 @@ SourceKind parse_source(const std::string& option, const std::string& text) {
 }
 
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  fs::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write " + path.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot rename onto " + path.string() + ": " + ec.message());
-  }
+  AtomicFile file(path);
+  file.stream() << text;
+  file.commit();
 }
 
 namespace {
