@@ -2,6 +2,8 @@
 
 #include "common/atomic_file.h"
 #include "common/parallel.h"
+#include "sensor/presets.h"
+#include "sensor/scene_file.h"
 
 #include <cerrno>
 #include <charconv>
@@ -95,6 +97,21 @@ SourceKind parse_source(const std::string& option, const std::string& text) {
   if (text == "raster") return SourceKind::Raster;
   if (text == "reference") return SourceKind::Reference;
   bad(option, text, "expected 'raster' or 'reference'");
+}
+
+NamedCell load_cell(const std::string& cell, const std::string& scene) {
+  if (!scene.empty()) {
+    try {
+      return {load_scene(scene), scene};
+    } catch (const SceneError& e) {
+      throw UsageError(std::string("--scene: ") + e.what());
+    }
+  }
+  const std::string name = cell.empty() ? std::string(kDefaultCell) : cell;
+  auto builtin = builtin_cell(name);
+  if (!builtin)
+    bad("--cell", name, "unknown cell; valid names: " + join_names(builtin_cell_names()) + " (see `vts cells`)");
+  return {std::move(*builtin), name};
 }
 
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
