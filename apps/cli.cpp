@@ -1,12 +1,14 @@
 #include "apps/cli.h"
 
+#include "common/atomic_file.h"
 #include "common/parallel.h"
+#include "sensor/presets.h"
+#include "sensor/scene_file.h"
 
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <vector>
 
 namespace vts::cli {
@@ -97,26 +99,25 @@ SourceKind parse_source(const std::string& option, const std::string& text) {
   bad(option, text, "expected 'raster' or 'reference'");
 }
 
-void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  fs::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write " + path.string());
+NamedCell load_cell(const std::string& cell, const std::string& scene) {
+  if (!scene.empty()) {
+    try {
+      return {load_scene(scene), scene};
+    } catch (const SceneError& e) {
+      throw UsageError(std::string("--scene: ") + e.what());
     }
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot rename onto " + path.string() + ": " + ec.message());
-  }
+  const std::string name = cell.empty() ? std::string(kDefaultCell) : cell;
+  auto builtin = builtin_cell(name);
+  if (!builtin)
+    bad("--cell", name, "unknown cell; valid names: " + join_names(builtin_cell_names()) + " (see `vts cells`)");
+  return {std::move(*builtin), name};
+}
+
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  AtomicFile file(path);
+  file.stream() << text;
+  file.commit();
 }
 
 namespace {

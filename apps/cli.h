@@ -14,6 +14,7 @@
 #include <string>
 
 #include "pipeline/scan_session.h"
+#include "sensor/cell.h"
 #include "sensor/pose.h"
 
 namespace vts::cli {
@@ -51,6 +52,15 @@ inline constexpr const char* kThreadsHelp =
 
 // "raster" or "reference".
 SourceKind parse_source(const std::string& option, const std::string& text);
+
+// The cell of --scene FILE (when given) or --cell NAME (empty: kDefaultCell),
+// and its label (the file or the name). UsageError "--scene: WHY" or
+// "--cell = 'NAME': unknown cell; valid names: ...".
+struct NamedCell {
+  Cell cell;
+  std::string label;
+};
+NamedCell load_cell(const std::string& cell, const std::string& scene);
 
 // Writes `text` to `path` through a temporary file in the same directory,
 // renamed when complete; throws std::runtime_error naming the file.

@@ -59,7 +59,8 @@ int run(int argc, char** argv) {
                            "the master's poses on the viewer's clock, the keys only move the camera");
   sim->excludes(cell);
   sim->excludes(scene);
-  cli.add_option("--source", o.source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
+  std::string source = "raster";
+  cli.add_option("--source", source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
       ->type_name("KIND");
   cli.add_option("--sensor", o.sensor,
                  "Sensor preset (sensor/presets.h): mspot, lps-2048-short, "
@@ -113,8 +114,9 @@ int run(int argc, char** argv) {
   try {
     script = parse_key_script(keys);
     std::tie(width, height) = parse_size(size);
-    if (o.source != "raster" && o.source != "reference")
-      throw UsageError("--source = '" + o.source + "': expected 'raster' or 'reference'");
+    if (source != "raster" && source != "reference")
+      throw UsageError("--source = '" + source + "': expected 'raster' or 'reference'");
+    o.source = source == "raster" ? vts::SourceKind::Raster : vts::SourceKind::Reference;
     if (!o.sensor.empty() && !vts::sensor_preset(o.sensor))
       throw UsageError("--sensor = '" + o.sensor + "': unknown preset; valid names: " +
                        vts::join_names(vts::sensor_preset_names()));

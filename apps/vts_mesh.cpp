@@ -10,8 +10,6 @@
 #include "apps/cli.h"
 #include "sensor/cell.h"
 #include "sensor/mesh_file.h"
-#include "sensor/presets.h"
-#include "sensor/scene_file.h"
 
 namespace vts::apps {
 namespace {
@@ -24,9 +22,7 @@ struct MeshOptions {
   std::string out;
 };
 
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using InputError = cli::UsageError;
 
 int run_mesh(const MeshOptions& o) {
   // Everything is checked before anything is written.
@@ -39,24 +35,7 @@ int run_mesh(const MeshOptions& o) {
   std::error_code ec;
   if (fs::is_directory(out, ec)) throw InputError("--out = '" + o.out + "': is a directory, expected a file name");
 
-  Cell cell;
-  std::string label;
-  if (!o.scene.empty()) {
-    try {
-      cell = load_scene(o.scene);
-    } catch (const SceneError& e) {
-      throw InputError(std::string("--scene: ") + e.what());
-    }
-    label = o.scene;
-  } else {
-    label = o.cell.empty() ? std::string(kDefaultCell) : o.cell;
-    auto builtin = builtin_cell(label);
-    if (!builtin)
-      throw InputError("--cell = '" + label + "': unknown cell; valid names: " + join_names(builtin_cell_names()) +
-                       " (see `vts cells`)");
-    cell = std::move(*builtin);
-  }
-
+  const auto [cell, label] = cli::load_cell(o.cell, o.scene);
   const Mesh mesh = cell.mesh();
   if (mesh.triangles.empty()) throw InputError(label + ": the cell has no triangles to write");
   if (const fs::path dir = out.parent_path(); !dir.empty()) {

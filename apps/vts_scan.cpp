@@ -14,7 +14,6 @@
 #include "pipeline/sinks.h"
 #include "sensor/cell.h"
 #include "sensor/presets.h"
-#include "sensor/scene_file.h"
 
 namespace vts::cli {
 namespace {
@@ -39,20 +38,9 @@ struct ScanPlan {
 ScanPlan plan_scan(const ScanOptions& o) {
   ScanPlan plan;
   ScanSpec& spec = plan.spec;
-  if (!o.scene.empty()) {
-    try {
-      spec.cell = load_scene(o.scene);
-    } catch (const SceneError& e) {
-      throw UsageError(std::string("--scene: ") + e.what());
-    }
-    spec.scene_label = o.scene;
-  } else {
-    const std::string name = o.cell.empty() ? std::string(kDefaultCell) : o.cell;
-    auto cell = builtin_cell(name);
-    if (!cell) bad("--cell", name, "unknown cell; valid names: " + join_names(builtin_cell_names()) + " (see `vts cells`)");
-    spec.cell = std::move(*cell);
-    spec.scene_label = name;
-  }
+  NamedCell named = load_cell(o.cell, o.scene);
+  spec.cell = std::move(named.cell);
+  spec.scene_label = std::move(named.label);
   Cell& cell = spec.cell;
   ScannerDesc& scanner = cell.scanner;
   ScanPath& path = cell.path;

@@ -1,11 +1,8 @@
 #include "apps/vts_track.h"
 
-#include <unistd.h>
-
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -14,11 +11,11 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "common/atomic_file.h"
 #include "pipeline/track_input.h"
-#include "tracker/follower.h"
+#include "pipeline/track_recording.h"
 #include "tracker/tracker.h"
 #include "trackio/params_yaml.h"
-#include "trackio/result_json.h"
 
 namespace vts::apps {
 namespace {
@@ -156,75 +153,40 @@ int run_track(const TrackOptions& o) {
   if (o.upper_thickness.empty() && joint_from_scene && params.joint == tk::JointType::Lap &&
       params.lap.upper_thickness_mm == 0.0)
     params.lap.upper_thickness_mm = input.scene_thickness_mm;
-  if (!o.angle.empty() || !o.gap.empty()) {
-    tk::Range* angle = nullptr;
-    tk::Range* gap = nullptr;
-    switch (params.joint) {
-      case tk::JointType::Fillet: angle = &params.fillet.angle_deg, gap = &params.fillet.gap_mm; break;
-      case tk::JointType::Corner: angle = &params.corner.angle_deg, gap = &params.corner.gap_mm; break;
-      case tk::JointType::Lap: angle = &params.lap.angle_deg, gap = &params.lap.gap_mm; break;
-      case tk::JointType::Butt: gap = &params.butt.gap_mm; break;
-      case tk::JointType::VGroove: angle = &params.vgroove.angle_deg, gap = &params.vgroove.gap_mm; break;
-    }
-    if (!o.angle.empty()) {
-      if (!angle) bad_option("--angle", o.angle, "the butt template has no angle range");
-      *angle = option_range("--angle", o.angle, "degrees");
-    }
-    if (!o.gap.empty()) *gap = option_range("--gap", o.gap, "mm");
+  // --angle and --gap set the joint's ranges, as its template's
+  // JOINT.angle_deg and JOINT.gap_mm in a parameter file do.
+  const std::string joint_key(tk::to_string(params.joint));
+  if (!o.angle.empty()) {
+    const trackio::ParamField* angle = trackio::find_param(joint_key + ".angle_deg");
+    if (!angle) bad_option("--angle", o.angle, "the butt template has no angle range");
+    *std::get<tk::Range*>(angle->field(file)) = option_range("--angle", o.angle, "degrees");
   }
+  if (!o.gap.empty())
+    *std::get<tk::Range*>(trackio::find_param(joint_key + ".gap_mm")->field(file)) =
+        option_range("--gap", o.gap, "mm");
+  TrackRecordingOptions tracking;
+  tracking.independent = o.independent;
+  if (!o.travel.empty())
+    tracking.follow.travel_per_profile_mm = option_number("--travel", o.travel, Limit{0.0, INFINITY, false}, "mm");
 
   // The output: a temporary file renamed at the end, so a failed run leaves none.
-  fs::path out_path, tmp_path;
-  std::ofstream out_file;
+  std::optional<AtomicFile> out_file;
   if (!o.out.empty()) {
-    out_path = fs::absolute(o.out).lexically_normal();
+    const fs::path out_path = fs::absolute(o.out).lexically_normal();
     std::error_code ec;
     if (fs::is_directory(out_path, ec)) bad_option("--out", o.out, "is a directory, expected a file name");
     const fs::path dir = out_path.parent_path();
     if (!fs::is_directory(dir, ec)) bad_option("--out", o.out, "directory '" + dir.string() + "' does not exist");
-    tmp_path = out_path;
-    tmp_path += ".tmp-" + std::to_string(::getpid());
-    out_file.open(tmp_path, std::ios::binary | std::ios::trunc);
-    if (!out_file) throw std::runtime_error("cannot create " + tmp_path.string());
+    out_file.emplace(out_path);
+    if (!out_file->is_open()) throw std::runtime_error("cannot create " + out_file->temp_path().string());
   }
-  std::ostream& out = o.out.empty() ? std::cout : out_file;
-
-  // The sequence (docs/JOINTS.md, "Sequence tracking"), or with
-  // --independent each profile alone. EXR recordings carry the sensor's pose
-  // per profile; CSV ones are taken as profiles along the seam, --travel apart.
-  tk::FollowParams follow;
-  if (!o.travel.empty()) follow.travel_per_profile_mm = option_number("--travel", o.travel, Limit{0.0, INFINITY, false}, "mm");
-  tk::Tracker tracker(params);
-  tk::Follower follower(params, follow);
-  tk::TrackResult result;
-  for (const Profile& p : input.profiles) {
-    const tk::ProfileView view{p.y_mm, p.z_mm, p.valid};
-    if (o.independent) {
-      tracker.track(view, result);
-      const std::string line = trackio::result_to_json_line(p.index, result);
-      out.write(line.data(), static_cast<std::streamsize>(line.size()));
-      continue;
-    }
-    const tk::TrackResult& r = follower.track(view, input.csv ? nullptr : &p.world_from_sensor);
-    const std::string line = trackio::sequence_to_json_line(p.index, r, follower);
+  std::ostream& out = out_file ? out_file->stream() : std::cout;
+  track_recording(input, params, tracking, [&out](const std::string& line) {
     out.write(line.data(), static_cast<std::streamsize>(line.size()));
-  }
+  });
   out.flush();
-  if (!o.out.empty()) {
-    out_file.close();
-    std::error_code ec;
-    if (!out_file) {
-      fs::remove(tmp_path, ec);
-      throw std::runtime_error("cannot write " + out_path.string());
-    }
-    fs::rename(tmp_path, out_path, ec);
-    if (ec) {
-      fs::remove(tmp_path, ec);
-      throw std::runtime_error("cannot rename onto " + out_path.string() + ": " + ec.message());
-    }
-  } else if (!std::cout) {
-    throw std::runtime_error("cannot write to stdout");
-  }
+  if (out_file) out_file->commit();
+  else if (!std::cout) throw std::runtime_error("cannot write to stdout");
   return cli::kExitOk;
 }
 

@@ -15,6 +15,9 @@
 // shadow-tested as given: the cost on a mesh with no flat regions.
 // BM_RasterSingle / BM_ReferenceSingle: one scan() per profile, no error model
 // (what the viewer's sensor thread does at a sensor's rate).
+// BM_RasterBatch / BM_ReferenceBatch: one source with its default threads (the
+// thread limit, common/parallel.h: VTS_THREADS or every hardware thread)
+// scanning batches of 512 poses, no error model: how vts scan splits a batch.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -81,6 +84,23 @@ void BM_Single(benchmark::State& state, bool raster, const std::string& cell_nam
   state.SetItemsProcessed(state.iterations());
 }
 
+void BM_Batch(benchmark::State& state, bool raster, const std::string& cell_name) {
+  const vts::Cell cell = bench_cell(cell_name);
+  const auto source =
+      raster ? vts::make_raster_source(cell.scanner, cell.mesh()) : vts::make_reference_source(cell.scanner, cell.mesh());
+  constexpr int kJobBatch = 512;
+  std::vector<vts::Pose> poses(kJobBatch);
+  std::vector<vts::Profile> ideal(kJobBatch);
+  std::int64_t i = 0;
+  for (auto _ : state) {
+    for (int k = 0; k < kJobBatch; ++k) poses[k] = cell.path.pose_at((i + k) % 400);
+    source->scan_batch(poses, ideal);
+    benchmark::DoNotOptimize(ideal.back().range_mm.data());
+    i += kJobBatch;
+  }
+  state.SetItemsProcessed(state.iterations() * kJobBatch);
+}
+
 // The error model alone on a cell's ideal profiles (computed once).
 void BM_ErrorModel(benchmark::State& state, const std::string& cell_name) {
   const vts::Cell cell = bench_cell(cell_name);
@@ -126,6 +146,11 @@ const int registered = [] {
     benchmark::RegisterBenchmark(raster ? "BM_RasterSingle/static-B" : "BM_ReferenceSingle/static-B",
                                  BM_Single, raster, std::string("static-B"))
         ->Unit(benchmark::kMicrosecond)->UseRealTime();
+  for (const char* cell : {"static-B", "fillet-1m"})
+    for (bool raster : {true, false})
+      benchmark::RegisterBenchmark((std::string(raster ? "BM_RasterBatch/" : "BM_ReferenceBatch/") + cell).c_str(),
+                                   BM_Batch, raster, std::string(cell))
+          ->Unit(benchmark::kMicrosecond)->UseRealTime();
   return 0;
 }();
 

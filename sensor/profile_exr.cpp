@@ -150,11 +150,12 @@ namespace {
 
 // OpenEXR's thread pool on the vts threads (common/parallel.h): each task
 // OpenEXR adds is queued and a thread of the arena takes it. OpenEXR's writer
-// blocks its caller until its tasks are done, so the caller takes queued
-// tasks too while two or more wait: the arena's other threads and the caller
-// compress together, as many as the thread limit. A caller that is itself in
-// a parallel loop takes every task (its waiting must not depend on the
-// arena's threads it may be holding).
+// blocks its caller until its tasks are done, so when it adds a task while
+// more wait than the arena's other threads can start, the caller takes the
+// oldest itself: the other threads and the caller compress together, as
+// many as the thread limit. A caller that is itself in a parallel loop
+// takes every task (its waiting must not depend on the arena's threads it
+// may be holding).
 class ArenaTaskProvider final : public IlmThread::ThreadPoolProvider {
  public:
   explicit ArenaTaskProvider(int threads) : threads_(threads) {}
@@ -176,7 +177,7 @@ class ArenaTaskProvider final : public IlmThread::ThreadPoolProvider {
     // The queue, not the provider, goes with the detached task: OpenEXR may
     // replace the provider while a finished queue's last takers are pending.
     run_detached([queue = queue_] { queue->run_one(); });
-    if (waiting >= 2) queue_->run_one();
+    if (waiting >= static_cast<std::size_t>(threads_)) queue_->run_one();
   }
   void finish() override {
     while (queue_->run_one()) {

@@ -211,7 +211,7 @@ int run_window(WindowOptions o) {
     std::cerr << "vts-view: " << e.what() << "\n";
     return kExitUsage;
   }
-  if (o.source == "reference") app->set_source(SourceKind::Reference);
+  app->set_source(o.source);
   if (!o.sensor.empty()) app->set_sensor_preset(o.sensor);
   if (!o.material.empty()) app->set_material(o.material);
   if (o.ideal) app->set_error_model(false);

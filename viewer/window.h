@@ -18,7 +18,7 @@ struct WindowOptions {
   std::optional<int> frames;       // run this many frames and exit
   std::vector<KeyFrame> script;    // scripted keys, one entry per frame
   bool fps = false;                // print the frame rate at exit; real-time simulation
-  std::string source = "raster";   // raster | reference
+  SourceKind source = SourceKind::Raster;
   std::string sensor, material;    // presets; empty: the cell's
   bool ideal = false;              // start with the error model off
   bool sim = false;                // show the run of `vts sim` (docs/SIM.md)

@@ -3,7 +3,7 @@
 // tracker_noisy_test.cpp, measured ones) share: their tolerances, the sensor
 // looking at a built-in joint's root from a tilted view, the joint's
 // cross-section in the sensor frame, and the ray spacing along a surface
-// worked out from the column geometry (sensor/rays.h's definition), never
+// (and at each joint's edges) worked out from the column geometry (sensor/rays.h's definition), never
 // from the tracker's own output.
 #include <catch2/catch.hpp>
 
@@ -87,6 +87,42 @@ inline const Vec2& feature(const Workpiece& w, const std::string& name) {
   FAIL("no feature " << name);
   static Vec2 none;
   return none;
+}
+
+// The ray spacing along the surface (JointView::spacing_along) at the two
+// edges that bound each joint: fillet, the web's toe along the web (second
+// 0); corner, each plate's inner edge along its outer face; lap, the upper
+// plate's top edge along its top and its bottom edge up the edge face; butt,
+// each plate's edge across the seam; v-groove, each root up its bevel.
+struct EdgeSpacings {
+  double first = 0.0, second = 0.0;
+};
+
+inline EdgeSpacings edge_spacings(const JointView& s) {
+  const Workpiece& w = *s.w;
+  switch (w.type) {
+    case JointType::Fillet: {
+      const double a = w.params.angle_deg * kDeg;
+      return {s.spacing_along(feature(w, "web_toe"), Vec2(std::cos(a), std::sin(a))), 0.0};
+    }
+    case JointType::Corner: {
+      const double h = 0.5 * w.params.angle_deg * kDeg;
+      return {s.spacing_along(feature(w, "left_edge"), Vec2(-std::sin(h), -std::cos(h))),
+              s.spacing_along(feature(w, "right_edge"), Vec2(std::sin(h), -std::cos(h)))};
+    }
+    case JointType::Lap:
+      return {s.spacing_along(feature(w, "edge_top"), Vec2(1.0, 0.0)),
+              s.spacing_along(feature(w, "edge_bottom"), Vec2(0.0, 1.0))};
+    case JointType::Butt:
+      return {s.spacing_along(feature(w, "left_edge"), Vec2(1.0, 0.0)),
+              s.spacing_along(feature(w, "right_edge"), Vec2(1.0, 0.0))};
+    case JointType::VGroove: {
+      const Vec2 lr = feature(w, "left_root"), rr = feature(w, "right_root");
+      return {s.spacing_along(lr, (feature(w, "left_top") - lr).normalized()),
+              s.spacing_along(rr, (feature(w, "right_top") - rr).normalized())};
+    }
+    default: return {};
+  }
 }
 
 inline tk::ProfileView view_of(const Profile& p) { return {p.y_mm, p.z_mm, p.valid}; }

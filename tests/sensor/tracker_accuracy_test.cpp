@@ -64,58 +64,36 @@ struct Tol {
 Tol tolerances(const Scan& s) {
   const Workpiece& w = *s.w;
   const JointParams& p = w.params;
+  const auto [d1, d2] = edge_spacings(s);
   Tol t;
   switch (w.type) {
-    case JointType::Fillet: {
-      if (p.gap_mm > 0.0) {
-        // The web's edge lies between two rays along the web.
-        const double a = p.angle_deg * kDeg;
-        const double ds = s.spacing_along(feature(w, "web_toe"), Vec2(std::cos(a), std::sin(a)));
-        t.gap = std::max(kGapTolMm, ds * std::sin(a));
+    case JointType::Fillet:
+      // The web's edge lies between two rays along the web.
+      if (p.gap_mm > 0.0) t.gap = std::max(kGapTolMm, d1 * std::sin(p.angle_deg * kDeg));
+      break;
+    case JointType::Corner:
+    case JointType::Butt:
+      // Each plate's edge lies between two rays on its plate.
+      if (w.type == JointType::Butt || p.gap_mm > 0.0) {
+        t.track = std::max(kTrackTolMm, 0.5 * (d1 + d2));
+        t.gap = std::max(kGapTolMm, d1 + d2);
       }
       break;
-    }
-    case JointType::Corner: {
-      if (p.gap_mm > 0.0) {
-        const double h = 0.5 * p.angle_deg * kDeg;
-        const double dl = s.spacing_along(feature(w, "left_edge"), Vec2(-std::sin(h), -std::cos(h)));
-        const double dr = s.spacing_along(feature(w, "right_edge"), Vec2(std::sin(h), -std::cos(h)));
-        t.track = std::max(kTrackTolMm, 0.5 * (dl + dr));
-        t.gap = std::max(kGapTolMm, dl + dr);
-      }
-      break;
-    }
-    case JointType::Lap: {
+    case JointType::Lap:
       // Hidden edge face: the top edge lies between two rays on the upper plate.
-      const double du = s.spacing_along(feature(w, "edge_top"), Vec2(1.0, 0.0));
-      t.track = std::max(kTrackTolMm, du);
-      if (p.gap_mm > 0.0) {
-        const double dw = s.spacing_along(feature(w, "edge_bottom"), Vec2(0.0, 1.0));
-        t.gap = std::max(kGapTolMm, std::min(dw, 10.0));
-      }
+      t.track = std::max(kTrackTolMm, d1);
+      if (p.gap_mm > 0.0) t.gap = std::max(kGapTolMm, std::min(d2, 10.0));
       t.angle_always = false;  // only where the edge face is seen
       break;
-    }
-    case JointType::Butt: {
-      const double dl = s.spacing_along(feature(w, "left_edge"), Vec2(1.0, 0.0));
-      const double dr = s.spacing_along(feature(w, "right_edge"), Vec2(1.0, 0.0));
-      t.track = std::max(kTrackTolMm, 0.5 * (dl + dr));
-      t.gap = std::max(kGapTolMm, dl + dr);
-      break;
-    }
-    case JointType::VGroove: {
-      const Vec2 lr = feature(w, "left_root"), rr = feature(w, "right_root");
-      const Vec2 ul = (feature(w, "left_top") - lr).normalized(), ur = (feature(w, "right_top") - rr).normalized();
-      const double dl = s.spacing_along(lr, ul), dr = s.spacing_along(rr, ur);
+    case JointType::VGroove:
       if (p.gap_mm > 0.0 || p.mismatch_mm != 0.0) {
-        t.track = std::max(kTrackTolMm, std::max(dl, dr));
-        t.gap = std::max(kGapTolMm, dl + dr);
-        t.other = std::max(kGapTolMm, std::max(dl, dr));
+        t.track = std::max(kTrackTolMm, std::max(d1, d2));
+        t.gap = std::max(kGapTolMm, d1 + d2);
+        t.other = std::max(kGapTolMm, std::max(d1, d2));
         const double top_width = 2.0 * (p.thickness_mm - p.root_face_mm) * std::tan(0.5 * p.angle_deg * kDeg);
-        t.area = std::max(0.5, (p.thickness_mm - p.root_face_mm) * (dl + dr) + top_width * std::max(dl, dr));
+        t.area = std::max(0.5, (p.thickness_mm - p.root_face_mm) * (d1 + d2) + top_width * std::max(d1, d2));
       }
       break;
-    }
     default: break;
   }
   return t;

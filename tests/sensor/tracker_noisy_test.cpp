@@ -90,55 +90,37 @@ Tol tolerances(const Scan& s, double standoff) {
   const double seen = standoff * std::tan(0.5 * s.desc.fan_deg * kDeg);
   Tol t{kTrackTolMm + 3 * sig, kGapTolMm + 3 * sig, kAngleTolDeg + 6 * sig / seen / kDeg, kGapTolMm + 3 * sig};
   auto edge = [&](double ds) { return 2 * ds + 3 * sig; };
+  const auto [d1, d2] = edge_spacings(s);
   switch (w.type) {
     case JointType::Fillet:
-      if (p.gap_mm > 0.0) {
-        const double a = p.angle_deg * kDeg;
-        t.gap = std::max(t.gap, edge(s.spacing_along(feature(w, "web_toe"), Vec2(std::cos(a), std::sin(a)))));
-      }
+      if (p.gap_mm > 0.0) t.gap = std::max(t.gap, edge(d1));
       break;
     case JointType::Corner:
-      if (p.gap_mm > 0.0) {
-        const double h = 0.5 * p.angle_deg * kDeg;
-        const double dl = s.spacing_along(feature(w, "left_edge"), Vec2(-std::sin(h), -std::cos(h)));
-        const double dr = s.spacing_along(feature(w, "right_edge"), Vec2(std::sin(h), -std::cos(h)));
-        t.track = std::max(t.track, 0.5 * (edge(dl) + edge(dr)));
-        t.gap = std::max(t.gap, edge(dl) + edge(dr));
+    case JointType::Butt:
+      if (w.type == JointType::Butt || p.gap_mm > 0.0) {
+        t.track = std::max(t.track, 0.5 * (edge(d1) + edge(d2)));
+        t.gap = std::max(t.gap, edge(d1) + edge(d2));
       }
       break;
-    case JointType::Lap: {
-      const double du = s.spacing_along(feature(w, "edge_top"), Vec2(1.0, 0.0));
-      t.track = std::max(t.track, edge(du));
-      if (p.gap_mm > 0.0) {
-        const double dw = s.spacing_along(feature(w, "edge_bottom"), Vec2(0.0, 1.0));
-        t.gap = std::max(t.gap, std::min(edge(dw), 10.0));
-      }
+    case JointType::Lap:
+      t.track = std::max(t.track, edge(d1));
+      if (p.gap_mm > 0.0) t.gap = std::max(t.gap, std::min(edge(d2), 10.0));
       t.angle_always = false;
       // The angle is the lower plate's against the upper plate's edge face,
       // and the face is at most the upper plate's thickness long: the rule
       // above (6 sigma / L) with L = thickness_mm.
       t.angle = std::max(t.angle, kAngleTolDeg + 6 * sig / p.thickness_mm / kDeg);
       break;
-    }
-    case JointType::Butt: {
-      const double dl = s.spacing_along(feature(w, "left_edge"), Vec2(1.0, 0.0));
-      const double dr = s.spacing_along(feature(w, "right_edge"), Vec2(1.0, 0.0));
-      t.track = std::max(t.track, 0.5 * (edge(dl) + edge(dr)));
-      t.gap = std::max(t.gap, edge(dl) + edge(dr));
-      break;
-    }
     case JointType::VGroove: {
       const Vec2 lr = feature(w, "left_root"), rr = feature(w, "right_root");
-      const Vec2 ul = (feature(w, "left_top") - lr).normalized(), ur = (feature(w, "right_top") - rr).normalized();
-      const double dl = s.spacing_along(lr, ul), dr = s.spacing_along(rr, ur);
       // The angle is the one between the bevels, each at most its face long
       // (root to top): the rule above (6 sigma / L) with L the shorter bevel.
       const double bevel = std::min((feature(w, "left_top") - lr).norm(), (feature(w, "right_top") - rr).norm());
       t.angle = std::max(t.angle, kAngleTolDeg + 6 * sig / bevel / kDeg);
       if (p.gap_mm > 0.0 || p.mismatch_mm != 0.0) {
-        t.track = std::max(t.track, std::max(edge(dl), edge(dr)));
-        t.gap = std::max(t.gap, edge(dl) + edge(dr));
-        t.other = std::max(t.other, std::max(edge(dl), edge(dr)));
+        t.track = std::max(t.track, std::max(edge(d1), edge(d2)));
+        t.gap = std::max(t.gap, edge(d1) + edge(d2));
+        t.other = std::max(t.other, std::max(edge(d1), edge(d2)));
       }
       break;
     }
