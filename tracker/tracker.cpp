@@ -541,7 +541,8 @@ class Matcher {
   // Rounded or chamfered edges are looked for (rounding()) unless `sharp`
   // (a bevel's root edge: its root face falls away from the bevel too).
   Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
-               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false) const {
+               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false,
+               bool prep_not_faces = false) const {
     const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
@@ -568,7 +569,11 @@ class Matcher {
       const double den = pl.line.n.dot(*face_dir);
       for (const auto span : {faces, more_faces}) {
         for (const Vec2& q : span) {
-          if (pl.line.signed_distance(q) > -tol_ || std::abs(den) < 0.2) continue;  // not behind the plate
+          const double h = -pl.line.signed_distance(q);
+          if (h < tol_ || std::abs(den) < 0.2) continue;  // not behind the plate
+          // Past a rounding or chamfer (rounding()), its own points are no
+          // face points: a face drops more than it runs on from the end.
+          if (prep_not_faces && rd.along > 0.0 && h <= (q - near).dot(dir) + tol_) continue;
           const Vec2 f = q + (pl.line.c - pl.line.n.dot(q)) / den * *face_dir;
           const double a = (f - near).dot(dir);
           if (a < -tol_ || a > width + tol_) continue;
@@ -1018,7 +1023,7 @@ class Matcher {
           int u_col = s_.cols[u_edge];
           reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col);
           const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
-          const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to));
+          const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true);
           top = e.point;
           c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);

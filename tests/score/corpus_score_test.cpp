@@ -30,7 +30,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {56, 0.49}},
-      {tk::JointType::Lap, {125, 0.49}},    {tk::JointType::Butt, {115, 0.67}},
+      {tk::JointType::Lap, {115, 0.55}},    {tk::JointType::Butt, {115, 0.67}},
       {tk::JointType::VGroove, {100, 0.70}},
   };
   for (const auto& [joint, limit] : limits) {
@@ -75,4 +75,25 @@ TEST_CASE("corpus: butt profiles whose true joint was never a candidate", "[trac
     INFO("seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason << ", error " << s.track_error_mm);
     CHECK(s.outcome != tk::Outcome::False);
   }
+}
+
+TEST_CASE("corpus: a lap whose upper edge is chamfered and whose face is hidden", "[tracker][corpus]") {
+  // Development seed 18, geometry only: the upper plate's top edge is
+  // chamfered, its edge face hidden from the camera, the plates tilted about
+  // 8 degrees. The chamfer's points are no face points: the face passes the
+  // chamfer's last point, so the top edge is where the plate's line meets
+  // the face there (not the chamfer points' mean, which put the foot 1.1 mm
+  // off).
+  vc::Options opt;
+  opt.imperfections = false;
+  opt.camera_in_laser_plane = false;
+  const vc::Profile p = vc::make_profile(vc::Joint::Lap, 18, opt);
+  tk::TrackerParams params;
+  params.joint = tk::JointType::Lap;
+  tk::Tracker tracker(params);
+  const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
+  INFO(tk::to_string(r.status) << " " << r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  const tk::Scored s = tk::score(r, truth_of(p.truth));
+  CHECK(s.track_error_mm < 0.3);
 }
