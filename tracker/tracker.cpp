@@ -462,17 +462,18 @@ class Matcher {
       const int col = s_.outlier_cols[static_cast<std::size_t>(k)];
       if (col > ca && col < cb) weigh_point(o, true);
     }
-    // "No joint" must explain the k rays into the joint (invalid columns and
+    // "No joint" must explain the rays into the joint (invalid columns and
     // the points counted above) and the stray points between the plates as
-    // one random event, a dropout run or a reflection cluster, of k columns:
+    // random events: the invalid columns as a dropout run, the points as a
+    // reflection cluster (both, where the rays found both: a dropout alone
+    // shows no points behind the plates). Each, of k columns, costs
     // ln(1 / p) for its start, p the rate of such events per column elsewhere
     // in the profile, and ln(1 / q) for each further column, q the share of
     // their columns that continue one (Laplace's rule for both). The joint
     // must explain its stray points so too (a reflection in the gap, or the
     // part of a reflection cluster that no gap there could show).
-    // The event is of the kind most of its columns are (invalid, or points).
     if (c.open_joint && ca < cb) {
-      const int invalid = s_.invalid_columns_between(ca, cb), k = into + stray + invalid;
+      const int invalid = s_.invalid_columns_between(ca, cb);
       auto random_event = [&](int cols, std::uint8_t type) {
         if (cols <= 0) return 0.0;
         int own_gone = 0;
@@ -482,7 +483,7 @@ class Matcher {
         const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
         return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
       };
-      event = random_event(k, invalid >= into + stray ? kInvalidEvent : kPointEvent) - random_event(stray, kPointEvent);
+      event = random_event(invalid, kInvalidEvent) + random_event(into + stray, kPointEvent) - random_event(stray, kPointEvent);
     }
     ev.strength = std::min({r0[0], r0[1], r0[2]}) - r1 + event;
     return ev;
