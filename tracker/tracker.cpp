@@ -966,8 +966,16 @@ class Matcher {
           else f_from = reach(upper.line, a.last, +1, b.first) + 1;
         }
         scratch_.clear();
-        for (int i = f_from; i <= f_to; ++i)
-          if (lower.line.distance(pt(i)) > tol_ && upper.line.distance(pt(i)) > tol_) scratch_.push_back(pt(i));
+        // With square edges a face drops more than it runs on from the upper
+        // plate's end (as far as it reaches): the points between that do not
+        // are its rounding or chamfer, not the face.
+        const Vec2 u_near = upper.line.project(pt(upper_is_b ? f_to + 1 : f_from - 1));
+        const Vec2 u_dir = outward(upper, u_near);
+        for (int i = f_from; i <= f_to; ++i) {
+          if (lower.line.distance(pt(i)) <= tol_ || upper.line.distance(pt(i)) <= tol_) continue;
+          if (p_.square_edges && -upper.line.signed_distance(pt(i)) <= (pt(i) - u_near).dot(u_dir) + tol_) continue;
+          scratch_.push_back(pt(i));
+        }
 
         Candidate c;
         Vec2 top, foot;
