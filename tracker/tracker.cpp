@@ -313,10 +313,8 @@ class Matcher {
   // mostly lie on none of the reading's lines, extended: a step to a third
   // plate, where the joint may be instead (a plate's end face, square to
   // it, is no such thing). Returns the robust cost of the strongest under c
-  // (as Evidence::strength weighs a point; 0: none) and its columns.
+  // (cost(), as Evidence::strength weighs a point; 0: none) and its columns.
   double unexplained_beyond(const Candidate& c, int& first_col, int& last_col) const {
-    const ConfidenceParams& cp = p_.confidence;
-    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
     double best = 0.0;
     for (int q = 0; q < n_long(); ++q) {
       const Segment& sg = seg(q);
@@ -325,22 +323,31 @@ class Matcher {
       if (!sg.fitted || acute_angle_deg(sg.line, side.line) > p_.butt.max_plate_angle_deg) continue;
       const int stride = std::max(1, sg.count() / 32);
       int n = 0, n_off = 0;
-      double cost = 0.0;
+      double sum = 0.0;
       for (int i = sg.first; i <= sg.last; i += stride) {
         const Vec2& q_pt = pt(i);
         double d = std::min(c.pa.line.distance(q_pt), c.pb.line.distance(q_pt));
         for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q_pt));
         ++n;
         n_off += d > 2.0 * tol_;
-        const double x2 = (d / sigma_) * (d / sigma_);
-        cost += std::min(stride, sg.last - i + 1) * (x2 <= in2 ? 0.0 : 0.5 * (std::min(x2, cap2) - in2));
+        sum += std::min(stride, sg.last - i + 1) * cost(d);
       }
-      if (2 * n_off > n && cost > best) best = cost, first_col = sg.first_col, last_col = sg.last_col;
+      if (2 * n_off > n && sum > best) best = sum, first_col = sg.first_col, last_col = sg.last_col;
     }
     return best;
   }
 
  private:
+  // A point's cost at distance d from the line that explains it: nothing
+  // within noise_k sigmas (noise, waviness: no evidence either way), then
+  // growing as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
+  double cost(double d) const {
+    const ConfidenceParams& cp = p_.confidence;
+    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
+    const double x = d / sigma_;
+    return x * x <= in2 ? 0.0 : 0.5 * (std::min(x * x, cap2) - in2);
+  }
+
   // The evidence for reading c (see Evidence): over the points within
   // ConfidenceParams::window_mm of the track point, the robust cost of "no
   // joint: one line through them" less that of "the joint as read" (each
@@ -351,14 +358,6 @@ class Matcher {
     Evidence ev;
     const ConfidenceParams& cp = p_.confidence;
     const double sig = sigma_;
-    // A point's cost: nothing within noise_k sigmas of the line that
-    // explains it (noise, waviness: no evidence either way), then growing
-    // as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
-    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
-    auto rho = [&](double d) {
-      const double x = d / sig;
-      return x * x <= in2 ? 0.0 : 0.5 * (std::min(x * x, cap2) - in2);
-    };
     const Vec2 t = *c.track;
     const int n = static_cast<int>(s_.points.size());
     // The window: the kept points from the plates' facing ends outwards while
@@ -446,8 +445,8 @@ class Matcher {
         ++stray;  // weighed below as a random event under either reading
         return;
       }
-      for (int k = 0; k < 3; ++k) r0[k] += w * rho(nulls[k].distance(q));
-      r1 += w * rho(d);
+      for (int k = 0; k < 3; ++k) r0[k] += w * cost(nulls[k].distance(q));
+      r1 += w * cost(d);
     };
     // The plates' points beside the joint, every stride-th, weighted;
     // everything between the plates' ends.
