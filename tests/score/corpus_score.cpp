@@ -32,6 +32,26 @@ tk::Truth truth_of(const vc::Truth& t) {
   return out;
 }
 
+vc::Options options_for(double level, bool camera_in_laser_plane) {
+  vc::Options opt;
+  opt.noise_mm = std::max(0.0, level);
+  opt.imperfections = level >= 0.0;
+  opt.camera_in_laser_plane = camera_in_laser_plane;
+  return opt;
+}
+
+ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level) {
+  ReadOne one{vc::make_profile(joint, seed, options_for(level, false)), {}, {}};
+  tk::TrackerParams params;
+  params.joint = joint_of(joint);
+  tk::Tracker tracker(params);
+  tracker.track(tk::ProfileView{one.profile.y, one.profile.z, one.profile.valid}, one.result);
+  tk::Truth t = truth_of(one.profile.truth);
+  t.noise_mm = level;
+  one.scored = tk::score(one.result, t);
+  return one;
+}
+
 tk::ScoreTable run(const RunOptions& o, const tk::TrackerParams& base,
                    const std::function<void(const vc::Profile&, const tk::TrackResult&, const tk::Scored&)>& each) {
   tk::ScoreTable table;
@@ -41,10 +61,7 @@ tk::ScoreTable run(const RunOptions& o, const tk::TrackerParams& base,
     params.joint = joint_of(j);
     tk::Tracker tracker(params);
     for (const double level : o.levels) {
-      vc::Options opt;
-      opt.noise_mm = std::max(0.0, level);
-      opt.imperfections = level >= 0.0;
-      opt.camera_in_laser_plane = o.camera_in_laser_plane;
+      const vc::Options opt = options_for(level, o.camera_in_laser_plane);
       for (int k = 0; k < o.profiles; ++k) {
         const vc::Profile p = vc::make_profile(j, o.first_seed + static_cast<std::uint64_t>(k), opt);
         tracker.track(tk::ProfileView{p.y, p.z, p.valid}, r);

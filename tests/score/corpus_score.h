@@ -32,6 +32,19 @@ struct RunOptions {
 // The row key of an ideal profile's level.
 inline constexpr double kIdealLevel = -1.0;
 
+// The corpus' options for a noise level (a table row; negative: "ideal",
+// noise 0 and no imperfections).
+vc::Options options_for(double level, bool camera_in_laser_plane);
+
+// One profile at a noise level (camera out of the laser plane, as run()
+// draws them by default), read alone with the joint's default parameters.
+struct ReadOne {
+  vc::Profile profile;
+  tk::TrackResult result;
+  tk::Scored scored;
+};
+ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level);
+
 // Calls `each` (if set) with every profile, its result and score.
 tk::ScoreTable run(const RunOptions& o, const tk::TrackerParams& base = {},
                    const std::function<void(const vc::Profile&, const tk::TrackResult&, const tk::Scored&)>& each = {});

@@ -67,17 +67,11 @@ TEST_CASE("corpus: butt profiles whose true joint was never a candidate", "[trac
   const std::pair<std::uint64_t, double> cases[] = {{137, 0.0}, {176, 0.05}, {250, 0.0}, {267, 0.0},
                                                     {62, 0.0},  {270, 0.0}};
   for (const auto& [seed, noise] : cases) {
-    vc::Options opt;
-    opt.noise_mm = noise;
-    opt.camera_in_laser_plane = false;  // as run() draws them
-    const vc::Profile p = vc::make_profile(vc::Joint::Butt, seed, opt);
-    tk::TrackerParams params;
-    params.joint = tk::JointType::Butt;
-    tk::Tracker tracker(params);
-    const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
-    const tk::Scored s = tk::score(r, truth_of(p.truth));
-    INFO("seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason << ", error " << s.track_error_mm);
-    CHECK(s.outcome != tk::Outcome::False);
+    const ReadOne one = read_one(vc::Joint::Butt, seed, noise);
+    const tk::TrackResult& r = one.result;
+    INFO("seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason << ", error "
+                 << one.scored.track_error_mm);
+    CHECK(one.scored.outcome != tk::Outcome::False);
   }
 }
 
@@ -87,17 +81,10 @@ TEST_CASE("corpus: laps whose upper edge is chamfered and whose face shows below
   // its foot lay 1-1.25 mm off; the chamfer's points (they drop no more than
   // they run on from the plate's end) are no part of the face.
   for (const std::uint64_t seed : {80u, 112u, 162u}) {
-    vc::Options opt;
-    opt.imperfections = false;
-    opt.camera_in_laser_plane = false;
-    const vc::Profile p = vc::make_profile(vc::Joint::Lap, seed, opt);
-    tk::TrackerParams params;
-    params.joint = tk::JointType::Lap;
-    tk::Tracker tracker(params);
-    const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
-    INFO("seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason);
-    REQUIRE(r.status == tk::TrackStatus::Ok);
-    CHECK(tk::score(r, truth_of(p.truth)).track_error_mm < 0.1);
+    const ReadOne one = read_one(vc::Joint::Lap, seed, kIdealLevel);
+    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason);
+    REQUIRE(one.result.status == tk::TrackStatus::Ok);
+    CHECK(one.scored.track_error_mm < 0.1);
   }
 }
 
@@ -108,16 +95,8 @@ TEST_CASE("corpus: a lap whose upper edge is chamfered and whose face is hidden"
   // chamfer's last point, so the top edge is where the plate's line meets
   // the face there (not the chamfer points' mean, which put the foot 1.1 mm
   // off).
-  vc::Options opt;
-  opt.imperfections = false;
-  opt.camera_in_laser_plane = false;
-  const vc::Profile p = vc::make_profile(vc::Joint::Lap, 18, opt);
-  tk::TrackerParams params;
-  params.joint = tk::JointType::Lap;
-  tk::Tracker tracker(params);
-  const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
-  INFO(tk::to_string(r.status) << " " << r.reason);
-  REQUIRE(r.status == tk::TrackStatus::Ok);
-  const tk::Scored s = tk::score(r, truth_of(p.truth));
-  CHECK(s.track_error_mm < 0.3);
+  const ReadOne one = read_one(vc::Joint::Lap, 18, kIdealLevel);
+  INFO(tk::to_string(one.result.status) << " " << one.result.reason);
+  REQUIRE(one.result.status == tk::TrackStatus::Ok);
+  CHECK(one.scored.track_error_mm < 0.3);
 }

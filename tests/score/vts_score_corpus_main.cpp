@@ -19,11 +19,7 @@ namespace {
 // reading: track points, break points, segments, reason).
 int dump(vts_corpus::Joint joint, std::uint64_t seed, double level, const std::string& prefix, bool camera_in_plane) {
   using namespace vts_score;
-  vc::Options opt;
-  opt.noise_mm = std::max(0.0, level);
-  opt.imperfections = level >= 0.0;
-  opt.camera_in_laser_plane = camera_in_plane;
-  const vc::Profile p = vc::make_profile(joint, seed, opt);
+  const vc::Profile p = vc::make_profile(joint, seed, options_for(level, camera_in_plane));
   tk::TrackerParams params;
   params.joint = joint_of(joint);
   tk::Tracker tracker(params);
