@@ -1113,8 +1113,13 @@ class Matcher {
     c.bp[4] = outer(b, pt(b.last));
     c.score = 1e6 * evidence + c.gap + c.mismatch;
     c.pa = a, c.pb = b, c.open_joint = true, c.parallel = true;
-    c.opening = {el.point, er.point, outward(a, el.point), outward(b, er.point), el.half_width_mm + tol_,
-                 er.half_width_mm + tol_};
+    // The opening reaches back to the plates' ends: the points of a rounded
+    // or chamfered edge (between a plate's last point and its edge, behind
+    // it) are the joint's, as its walls are, not strays.
+    const Vec2 ia = outward(a, el.point), ib = outward(b, er.point);
+    const double back_a = (el.point - a.line.project(a_end)).dot(ia), back_b = (er.point - b.line.project(b_end)).dot(ib);
+    c.opening = {el.point, er.point, ia, ib, std::max(el.half_width_mm, back_a) + tol_,
+                 std::max(er.half_width_mm, back_b) + tol_};
     c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
     offer(c);
   }
