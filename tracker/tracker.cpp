@@ -27,10 +27,13 @@ constexpr JointName kJointNames[] = {{JointType::Fillet, "fillet"},
                                      {JointType::Corner, "corner"},
                                      {JointType::Lap, "lap"},
                                      {JointType::Butt, "butt"},
-                                     {JointType::VGroove, "vgroove"}};
+                                     {JointType::VGroove, "vgroove"},
+                                     {JointType::Bevel, "bevel"},
+                                     {JointType::UGroove, "ugroove"},
+                                     {JointType::JGroove, "jgroove"}};
 
 // Break point names per joint (docs/JOINTS.md).
-constexpr std::string_view kBreakNames[5][kMaxBreakPoints] = {
+constexpr std::string_view kBreakNames[8][kMaxBreakPoints] = {
     // Fillet
     {"flange outer end", "root", "flange end seen under the web", "web edge", "web outer end", "", "", ""},
     // Corner
@@ -45,6 +48,13 @@ constexpr std::string_view kBreakNames[5][kMaxBreakPoints] = {
     // VGroove
     {"first top outer end", "first top edge", "first root edge", "root centre", "second root edge",
      "second top edge", "second top outer end", ""},
+    // Bevel, UGroove, JGroove: the groove model (docs/JOINTS.md "Grooves and fill")
+    {"first top outer end", "first top edge", "first toe", "bottom centre", "second toe", "second top edge",
+     "second top outer end", ""},
+    {"first top outer end", "first top edge", "first toe", "bottom centre", "second toe", "second top edge",
+     "second top outer end", ""},
+    {"first top outer end", "first top edge", "first toe", "bottom centre", "second toe", "second top edge",
+     "second top outer end", ""},
 };
 
 // A plate: a run of kept points [first, last] and its fitted line.
@@ -211,6 +221,9 @@ class Matcher {
       case JointType::Lap: lap(); break;
       case JointType::Butt: butt(); break;
       case JointType::VGroove: vgroove(); break;
+      case JointType::Bevel:
+      case JointType::UGroove:
+      case JointType::JGroove: groove(joint); break;
     }
     return found_;
   }
@@ -1378,6 +1391,9 @@ class Matcher {
     }
   }
 
+  // The groove model (docs/JOINTS.md "Grooves and fill").
+  void groove(JointType) {}
+
   void vgroove() {
     const VGrooveParams& vp = p_.vgroove;
     // Bevels may be short (seen at a grazing angle); the tops must be long.
@@ -1639,6 +1655,9 @@ const char* shape_of(JointType joint) {
     case JointType::Lap: return "no step between two parallel plates";
     case JointType::Butt: return "no gap or step between two parallel plates";
     case JointType::VGroove: return "no groove between two bevels";
+    case JointType::Bevel: return "no groove between a square wall and a bevel";
+    case JointType::UGroove: return "no U groove between two plate tops";
+    case JointType::JGroove: return "no J groove between two plate tops";
   }
   return "";
 }

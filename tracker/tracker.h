@@ -46,8 +46,19 @@ struct TrackResult {
   double angle_deg = kNotMeasured;     // joint angle (docs/JOINTS.md per joint)
   double mismatch_mm = kNotMeasured;   // butt, v-groove: height difference of the plates
   double step_mm = kNotMeasured;       // lap: upper plate's top edge above the lower plate
-  double depth_mm = kNotMeasured;      // v-groove: plate top to root
-  double area_mm2 = kNotMeasured;      // v-groove: open cross-section of the groove
+  // Grooves (v-groove, bevel, U, J): from the plate tops' line (B1-B5) to
+  // the lowest point of the groove's bottom (the root, or the last bead's
+  // surface: the fill), and the cross-section still open between that line
+  // and the groove's surface (the remaining depth and area to fill).
+  double depth_mm = kNotMeasured;
+  double area_mm2 = kNotMeasured;
+  // Grooves: each wall's straight part against its plate top (90: square;
+  // a: the wall of the first plate in scan order), and the top width B1-B5.
+  // angle_deg is the included angle, 180 - both.
+  double wall_angle_a_deg = kNotMeasured;
+  double wall_angle_b_deg = kNotMeasured;
+  double top_width_mm = kNotMeasured;
+  std::optional<Vec2> fill_lowest;  // grooves: the lowest point of the bottom (fill) surface
   // Half the interval, along the plate, in which the plate edges that define
   // the gap can lie given the column rays (0 where lines meet or an edge face
   // was seen). Ideal profiles cannot pin an edge better than this.

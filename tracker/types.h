@@ -13,13 +13,16 @@ namespace vts::tracker {
 
 using Vec2 = Eigen::Vector2d;  // (y, z), sensor frame, mm
 
-// The joint a template describes (docs/JOINTS.md).
-enum class JointType { Fillet, Corner, Lap, Butt, VGroove };
+// The joint a template describes (docs/JOINTS.md). The grooves (v-groove,
+// single bevel, U, J) are read by one groove model with the fill (beads laid
+// in it) as well.
+enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Bevel, UGroove, JGroove };
 
-inline constexpr JointType kAllJointTypes[] = {JointType::Fillet, JointType::Corner, JointType::Lap,
-                                              JointType::Butt, JointType::VGroove};
+inline constexpr JointType kAllJointTypes[] = {JointType::Fillet, JointType::Corner,  JointType::Lap,
+                                              JointType::Butt,   JointType::VGroove, JointType::Bevel,
+                                              JointType::UGroove, JointType::JGroove};
 
-// "fillet", "corner", "lap", "butt", "vgroove".
+// "fillet", "corner", "lap", "butt", "vgroove", "bevel", "ugroove", "jgroove".
 std::string_view to_string(JointType type);
 std::optional<JointType> joint_type_from_string(std::string_view name);
 
