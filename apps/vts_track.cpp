@@ -58,6 +58,7 @@ struct TrackOptions {
   std::string input, out, joint, params;
   bool truth = false;
   bool independent = false;  // each profile alone, not the sequence (tracker/follower.h)
+  bool fill = false;         // v-groove: beads are laid in it (GrooveParams::vgroove_fill)
   std::string travel;        // --travel MM: travel per profile without poses (CSV)
   struct Value {
     std::string text;  // "" = not given
@@ -113,7 +114,8 @@ int run_track(const TrackOptions& o) {
   std::optional<tk::JointType> joint;
   if (!o.joint.empty()) {
     joint = tk::joint_type_from_string(o.joint);
-    if (!joint) bad_option("--joint", o.joint, "unknown joint; expected fillet, corner, lap, butt or vgroove");
+    if (!joint) bad_option("--joint", o.joint,
+                 "unknown joint; expected fillet, corner, lap, butt, vgroove, bevel, ugroove or jgroove");
   }
   trackio::ParamsFile file;
   if (!o.params.empty()) {
@@ -125,6 +127,7 @@ int run_track(const TrackOptions& o) {
   }
   for (std::size_t k = 0; k < kParamOptionCount; ++k) apply_option(kParamOptions[k], o.values[k], file);
   tk::TrackerParams& params = file.params;
+  if (o.fill) params.groove.vgroove_fill = true;
   if (!o.upper_thickness.empty())
     params.lap.upper_thickness_mm =
         option_number("--upper-thickness", o.upper_thickness, trackio::find_param("lap.upper_thickness_mm")->limit, "mm");
@@ -205,7 +208,7 @@ CLI::App* add_track_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--out", o->out, "Write the JSON Lines here instead of stdout (written whole or not at all)")
       ->type_name("FILE");
   cmd->add_option("--joint", o->joint,
-                  "Joint template: fillet, corner, lap, butt, vgroove. Default: the --params file's joint, "
+                  "Joint template: fillet, corner, lap, butt, vgroove, bevel, ugroove, jgroove. Default: the --params file's joint, "
                   "else the joint of the EXR's scene, else fillet")
       ->type_name("TYPE");
   cmd->add_option("--params", o->params, "Tracker parameters, YAML (docs/CLI.md); options below override it")
@@ -213,6 +216,10 @@ CLI::App* add_track_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--independent", o->independent,
                 "Read each profile alone; by default the profiles are a sequence along one seam: once the "
                 "joint is found, each profile is searched only near where it is predicted (docs/JOINTS.md)");
+  cmd->add_flag("--fill", o->fill,
+                "V-groove: beads are laid in it (multi-pass): read the last bead's surface as the groove's "
+                "bottom (the fill: remaining depth and area, the next bead's toes), not as a tack weld "
+                "over the root (docs/JOINTS.md \"Grooves and fill\")");
   cmd->add_option("--travel", o->travel,
                   "CSV: travel of the sensor along the seam per profile, mm (>= 0; default 1; EXR files "
                   "carry the sensor's pose per profile)")

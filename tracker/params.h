@@ -172,6 +172,39 @@ struct VGrooveParams {
   bool short_bevel_across_pieces = true;
 };
 
+// The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md
+// "Grooves and fill"): two plate tops, a wall below each top edge, and the
+// groove's bottom between the walls (the root, or the last bead: the fill).
+struct GrooveParams {
+  double max_top_angle_deg = 10.0;  // the plate tops are parallel within this
+  Range mismatch_mm{0.0, 5.0};      // plate b's top above or below a's, across the tops
+  Range top_width_mm{2.0, 150.0};   // top edge to top edge
+  Range depth_mm{0.5, 120.0};       // what is left to fill: the tops' line to the bottom's lowest point
+  // A wall is a straight run of at least this many points below its top edge,
+  // at least min_wall_deg to the plate top, starting within max_edge_mm of
+  // the top's end (a chamfered or rounded top edge lies between).
+  int min_wall_points = 4;
+  double min_wall_deg = 20.0;
+  double max_edge_mm = 3.0;
+  // Each wall's angle to its plate top (90: square), per joint: a bevelled
+  // wall (v-groove, a bevel's bevel, a J's straight part), a U's walls, and
+  // a square wall (a bevel's and a J's other side; it may be hidden from the
+  // camera, then it is taken as square).
+  Range bevel_wall_deg{30.0, 82.0};
+  Range u_wall_deg{65.0, 92.0};
+  Range square_wall_deg{82.0, 95.0};
+  // Narrower notches than this in the bottom (a root gap, the rays into it)
+  // are closed at their shoulders: the groove's bottom is the root edges' level.
+  double max_notch_mm = 4.0;
+  // The v-groove is read by its own template and by this model. With
+  // vgroove_fill (beads are laid in it: multi-pass welding; `vts track
+  // --fill`) the model's reading stands unless the template's top edges and
+  // track point lie within agree_mm of its own; without, the template's
+  // (an empty groove: a bump in its root is a tack weld, not a bead).
+  bool vgroove_fill = false;
+  double agree_mm = 1.0;
+};
+
 // The profile's noise level and the tolerances that follow it (tracker/noise.h).
 // Every tolerance below that noise must not cross is raised to a multiple of
 // the noise sigma (across the surface, 1 sigma, mm) when that is larger than
@@ -255,6 +288,7 @@ struct TrackerParams {
   LapParams lap;
   ButtParams butt;
   VGrooveParams vgroove;
+  GrooveParams groove;
   // How far a point may lie off a fitted surface and still count as on it,
   // and how far past a line a point must lie to count as beyond it (mm).
   // Ideal profiles need little; set it from the sensor's resolution.

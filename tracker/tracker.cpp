@@ -10,6 +10,7 @@
 #include <cstring>
 #include <numbers>
 #include <span>
+#include <Eigen/Cholesky>
 
 namespace vts::tracker {
 namespace {
@@ -90,6 +91,9 @@ struct Candidate {
   std::array<std::optional<Vec2>, kMaxBreakPoints> bp;
   std::optional<Vec2> track;
   double gap = kNaN, gap_paper = kNaN, angle = kNaN, mismatch = kNaN, step = kNaN, depth = kNaN, area = kNaN;
+  double wall_a = kNaN, wall_b = kNaN, top_width = kNaN;  // grooves (TrackResult)
+  std::optional<Vec2> fill_lowest;
+  bool weighed = false;  // the template set `evidence` itself (the groove model)
   double edge_unc = 0.0;
   double track_unc = 0.0;  // half the interval the track point can lie in, from its edges
   double score = 0.0;
@@ -220,7 +224,7 @@ class Matcher {
       case JointType::Corner: corner(); break;
       case JointType::Lap: lap(); break;
       case JointType::Butt: butt(); break;
-      case JointType::VGroove: vgroove(); break;
+      case JointType::VGroove: vgroove_or_fill(best); break;
       case JointType::Bevel:
       case JointType::UGroove:
       case JointType::JGroove: groove(joint); break;
@@ -290,7 +294,7 @@ class Matcher {
       }
     }
     if (c.accepted && c.track) {
-      c.evidence = weigh(c);
+      if (!c.weighed) c.evidence = weigh(c);
       const Reading r{*c.track, c.evidence.strength};
       if (n_readings_ < kMaxReadings) {
         readings_[n_readings_++] = r;
@@ -1391,8 +1395,395 @@ class Matcher {
     }
   }
 
-  // The groove model (docs/JOINTS.md "Grooves and fill").
-  void groove(JointType) {}
+  // The v-groove: its own template (the root: root faces, gaps, bevels seen
+  // edge-on), and the groove model (tops, walls, the bottom whatever it is).
+  // With GrooveParams::vgroove_fill (beads laid in the groove: multi-pass)
+  // the model's accepted reading stands unless the template's agrees with
+  // it (top edges and track point within agree_mm). Without, the
+  // template's stands, with the model's wall angles and top width where
+  // their top edges agree; a template reading that lies on the bottom of
+  // the model's wider groove without seeing its tops is rejected (it read
+  // a bead's or a tack weld's bumps as bevels: a bead and a tack weld in
+  // the root look the same, so only the user knows beads are expected).
+  void vgroove_or_fill(Candidate& best) {
+    vgroove();
+    const bool had = found_;
+    const auto readings = readings_;
+    const int n_readings = n_readings_;
+    Candidate g;
+    found_ = false, best_ = &g, n_readings_ = 0;
+    groove(JointType::VGroove);
+    const bool g_ok = found_ && g.accepted;
+    best_ = &best;
+    auto near = [&](const std::optional<Vec2>& x, const std::optional<Vec2>& y) {
+      return x && y && (*x - *y).norm() <= p_.groove.agree_mm;
+    };
+    const bool tops_agree = had && best.accepted && g_ok && near(best.bp[1], g.bp[1]) && near(best.bp[5], g.bp[5]);
+    if (p_.groove.vgroove_fill && g_ok && !(tops_agree && near(best.track, g.track))) {
+      best = g;
+      found_ = true;
+      return;
+    }
+    found_ = had;
+    readings_ = readings, n_readings_ = n_readings;
+    if (tops_agree) {
+      best.wall_a = g.wall_a, best.wall_b = g.wall_b, best.top_width = g.top_width;
+      if (p_.groove.vgroove_fill) best.fill_lowest = g.fill_lowest;
+      return;
+    }
+    // The template's reading lies on the bottom of a wider groove whose tops
+    // it does not see: it read a bead's (or a tack weld's) bumps as bevels.
+    // Not this groove's root: say so.
+    if (had && best.accepted && best.track && g_ok && (!best.bp[1] || !best.bp[5]) && !near(best.track, g.track)) {
+      const Vec2 along = (*g.bp[5] - *g.bp[1]).normalized();
+      const Vec2 down(along.y(), -along.x());
+      const double u = (*best.track - *g.bp[1]).dot(along), v = (*best.track - *g.track).dot(down);
+      if (u >= (*g.bp[2] - *g.bp[1]).dot(along) - p_.groove.agree_mm &&
+          u <= (*g.bp[4] - *g.bp[1]).dot(along) + p_.groove.agree_mm && std::abs(v) <= 3.0) {
+        best.accepted = false;
+        std::snprintf(best.reason, sizeof best.reason,
+                      "inside a wider groove (walls %.3g and %.3g deg, %.3g mm wide at the top): beads laid in it? "
+                      "(read its fill with GrooveParams::vgroove_fill)",
+                      g.wall_a, g.wall_b, g.top_width);
+      }
+    }
+  }
+
+  // The groove model (docs/JOINTS.md "Grooves and fill"): two plate tops
+  // (long segments, parallel, the groove between them deeper than
+  // GrooveParams::depth_mm), a wall below each top edge (a straight run from
+  // the top's end down; a square wall may be hidden from the camera), and
+  // the bottom between the walls' feet (the toes), whatever its shape: the
+  // root, a U's or J's radius, or the last bead laid. Every pair of tops is
+  // a reading; they compete by their evidence as the other templates' do.
+  void groove(JointType joint) {
+    const GrooveParams& gp = p_.groove;
+    const double max_sin = std::sin(gp.max_top_angle_deg * std::numbers::pi / 180.0);
+    for (int qa = 0; qa + 1 < n_long(); ++qa) {
+      for (int qb = qa + 1; qb < n_long(); ++qb) {
+        const Segment& sa = seg(qa);
+        const Segment& sb = seg(qb);
+        if ((pt(sb.first) - pt(sa.last)).norm() > gp.top_width_mm.max + 2.0 * gp.max_edge_mm) break;
+        if (std::abs(sa.line.n.x() * sb.line.n.y() - sa.line.n.y() * sb.line.n.x()) > max_sin) continue;
+        // A long segment between them on the tops' line: the tops of another
+        // groove, or the plate's own top cut by a dropout (extended() joins it).
+        bool inner_top = false;
+        for (int q = qa + 1; q < qb && !inner_top; ++q)
+          inner_top = continues(seg(q), sa) || continues(seg(q), sb);
+        if (inner_top) continue;
+        groove_pair(joint, extended(qa, -1), extended(qb, +1));
+      }
+    }
+  }
+
+  // A wall below a top edge: the first fitted segment from the top's end
+  // towards the groove (dir +1: after top a; -1: before top b) with
+  // min_wall_points points, starting within max_edge_mm of the top's end and
+  // at least min_wall_deg to the top, joined with the segments after it on
+  // its line. Returns its point range and fit; empty if none.
+  struct Wall {
+    int first = 0, last = 0;  // point indices, scan order
+    Line line;
+  };
+  std::optional<Wall> wall_below(const Plate& top, int end, int dir, int stop) const {
+    const GrooveParams& gp = p_.groove;
+    const int n_seg = static_cast<int>(s_.segments.size());
+    // The segment holding the first point past the top's end.
+    int k = 0;
+    while (k < n_seg && s_.segments[k].last < end + dir) ++k;
+    if (dir < 0) {
+      k = n_seg - 1;
+      while (k >= 0 && s_.segments[k].first > end + dir) --k;
+    }
+    for (; k >= 0 && k < n_seg; k += dir) {
+      const Segment& sg = s_.segments[k];
+      if (dir > 0 ? sg.first >= stop : sg.last <= stop) return std::nullopt;
+      const Vec2& near = pt(dir > 0 ? sg.first : sg.last);
+      if ((near - pt(end)).norm() > gp.max_edge_mm) return std::nullopt;
+      if (!sg.fitted || sg.count() < gp.min_wall_points || acute_angle_deg(sg.line, top.line) < gp.min_wall_deg)
+        continue;
+      Wall w{sg.first, sg.last, sg.line};
+      PointSums sums = sg.sums;
+      // Past up to two pieces of at most 8 points off its line (a reflection
+      // cluster on the wall),
+      // to the next segment on it.
+      int skipped = 0;
+      for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
+        const Segment& nx = s_.segments[m];
+        if (dir > 0 ? nx.first >= stop : nx.last <= stop) break;
+        bool on = true;
+        for (int i = nx.first; i <= nx.last && on; ++i) on = w.line.distance(pt(i)) <= tol_;
+        if (!on && nx.count() <= 8 && ++skipped <= 2) continue;
+        if (!on) break;
+        sums += nx.sums;
+        if (const auto f = s_.fit(sums)) w.line = f->line;
+        w.first = std::min(w.first, nx.first), w.last = std::max(w.last, nx.last);
+      }
+      w.line.orient_towards(origin_);
+      return w;
+    }
+    return std::nullopt;
+  }
+
+  void groove_pair(JointType joint, const Plate& a, const Plate& b) {
+    const GrooveParams& gp = p_.groove;
+    Candidate c;
+    c.pa = a, c.pb = b;
+    // Along the tops from a to b, and "down" into the work (away from the sensor).
+    Vec2 along = a.line.direction();
+    if (along.dot(b.centroid - a.centroid) < 0.0) along = -along;
+    const Vec2 down = -a.line.n;
+    const auto depth_below = [&](const Line& top, const Vec2& q) { return -top.signed_distance(q); };
+    // The groove: something between the tops deeper than depth_mm.min.
+    double deepest = 0.0;
+    for (int i = a.last + 1; i < b.first; ++i) deepest = std::max(deepest, depth_below(a.line, pt(i)));
+    if (deepest < gp.depth_mm.min) return;
+    const auto wa = wall_below(a, a.last, +1, b.first);
+    const auto wb = wall_below(b, b.first, -1, wa ? wa->last : a.last);
+    // Which walls may be square and hidden: a bevel's or J's square side is
+    // the one not seen, or the steeper of the two.
+    const bool one_square = joint == JointType::Bevel || joint == JointType::JGroove;
+    if (!wa && !wb) return;
+    if ((!wa || !wb) && !one_square) {
+      std::snprintf(c.reason, sizeof c.reason, "the %s wall is not seen", wa ? "second" : "first");
+      c.track = a.line.project(0.5 * (pt(a.last) + pt(b.first)));
+      offer(c);
+      return;
+    }
+    const double ang_a = wa ? acute_angle_deg(wa->line, a.line) : 90.0;
+    const double ang_b = wb ? acute_angle_deg(wb->line, b.line) : 90.0;
+    const bool square_a = one_square && (!wa || (wb && ang_a >= ang_b));
+    // A top edge: where the top meets its wall's line, or for a hidden
+    // square wall the top's edge (between the rays) with the wall through it,
+    // square to the top.
+    double unc = 0.0;
+    auto top_edge = [&](const Plate& top, const std::optional<Wall>& w, int end, int beyond_col,
+                        Line& wall) -> std::optional<Vec2> {
+      if (w) {
+        wall = w->line;
+        return intersect(top.line, wall, 0.1);
+      }
+      const Edge e = edge_at(top, pt(end), beyond_col, nullptr, {});
+      wall.n = top.line.direction();
+      wall.c = wall.n.dot(e.point);
+      wall.orient_towards(origin_);
+      unc += e.half_width_mm;
+      return e.point;
+    };
+    Line la, lb;
+    const auto e1 = top_edge(a, wa, a.last, s_.cols[a.last] + 1, la);
+    const auto e5 = top_edge(b, wb, b.first, s_.cols[b.first] - 1, lb);
+    if (!e1 || !e5) return;
+    const Vec2 b1 = *e1, b5 = *e5;
+    if ((b5 - b1).dot(along) <= 0.0) return;
+    // The bottom's points: between the walls' feet (or the tops' ends where
+    // a wall is hidden).
+    const int bot_first = wa ? wa->last + 1 : a.last + 1, bot_last = wb ? wb->first - 1 : b.first - 1;
+    // A toe: where the wall meets the bottom: the wall's line and the line of
+    // the bottom's first few points, if they cross near the wall's last point;
+    // else that point on the wall's line.
+    auto toe = [&](const Line& wall, int wall_end, int from, int step) {
+      const Vec2 foot = wall.project(pt(wall_end));
+      // A radius at the foot (U, J): the bottom's points next to the wall lie
+      // on a circle tangent to it; the toe is where it touches the wall.
+      if (const auto t = tangent_toe(wall, foot, from, step, bot_first, bot_last)) return *t;
+      // At least 4 points on a line, the first right beside the wall's foot.
+      if (from < bot_first || from > bot_last || (pt(from) - foot).norm() > 1.0) return foot;
+      int to = from;
+      for (int k = 0; k < 4 && to + step >= bot_first && to + step <= bot_last; ++k) to += step;
+      if (std::abs(to - from) < 3) return foot;
+      const auto f = s_.fit(std::min(from, to), std::max(from, to));
+      if (!f || f->rms_mm > tol_) return foot;
+      const auto x = intersect(wall, f->line, 0.2);
+      return x && (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
+    };
+    const Vec2 b2 = wa ? toe(la, wa->last, bot_first, +1)
+                       : (bot_first <= bot_last ? toe(la, bot_first, bot_first, +1) : la.project(pt(b.first)));
+    const Vec2 b4 = wb ? toe(lb, wb->first, bot_last, -1)
+                       : (bot_first <= bot_last ? toe(lb, bot_last, bot_last, -1) : lb.project(pt(a.last)));
+    if ((b4 - b2).dot(along) < -tol_) return;
+    // The bottom as a polyline from toe to toe, in the tops' frame (u along,
+    // v down from the line B1-B5), narrow notches closed at their shoulders.
+    Line top;
+    top.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
+    top.c = top.n.dot(b1);
+    top.orient_towards(origin_);
+    auto& poly = scratch_;
+    poly.clear();
+    poly.push_back(b2);
+    for (int i = bot_first; i <= bot_last; ++i) {
+      const double u = (pt(i) - b2).dot(along);
+      if (u > 0.0 && u < (b4 - b2).dot(along)) poly.push_back(pt(i));
+    }
+    poly.push_back(b4);
+    close_notches(poly, along, down, gp.max_notch_mm);
+    // B3: the bottom midway between the toes.
+    const double u_mid = 0.5 * ((b2 - b1).dot(along) + (b4 - b1).dot(along));
+    Vec2 b3 = 0.5 * (b2 + b4);
+    for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
+      const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
+      if (u0 <= u_mid && u1 >= u_mid) {
+        const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
+        b3 = poly[k] + t * (poly[k + 1] - poly[k]);
+        break;
+      }
+    }
+    // The lowest point of the bottom (each inner point smoothed over its
+    // neighbours within 0.5 mm along: noise would pick its deepest sample).
+    std::size_t low = 0;
+    double low_v = -std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      double v = depth_below(top, poly[k]);
+      if (k > 0 && k + 1 < poly.size()) {
+        double sum = 0.0;
+        int n = 0;
+        for (std::size_t m = 1; m + 1 < poly.size(); ++m)
+          if (std::abs((poly[m] - poly[k]).dot(along)) <= 0.5) sum += depth_below(top, poly[m]), ++n;
+        v = sum / n;
+      }
+      if (v > low_v + 1e-9) low_v = v, low = k;
+    }
+    // The open cross-section: B1, B2, the bottom, B4, B5.
+    double area2 = 0.0;
+    auto edge = [&](const Vec2& p, const Vec2& q) { area2 += p.x() * q.y() - p.y() * q.x(); };
+    edge(b1, poly.front());
+    for (std::size_t k = 0; k + 1 < poly.size(); ++k) edge(poly[k], poly[k + 1]);
+    edge(poly.back(), b5);
+    edge(b5, b1);
+    c.bp[0] = outer(a, pt(a.first));
+    c.bp[1] = b1, c.bp[2] = b2, c.bp[3] = b3, c.bp[4] = b4, c.bp[5] = b5;
+    c.bp[6] = outer(b, pt(b.last));
+    c.track = b3;
+    c.fill_lowest = poly[low];
+    c.depth = low_v;
+    c.area = 0.5 * std::abs(area2);
+    c.wall_a = acute_angle_deg(la, a.line), c.wall_b = acute_angle_deg(lb, b.line);
+    c.angle = 180.0 - c.wall_a - c.wall_b;
+    c.top_width = (b5 - b1).norm();
+    c.mismatch = std::abs(a.line.signed_distance(b5));
+    c.gap = kNaN;
+    c.edge_unc = unc;
+    c.track_unc = 0.5 * unc;
+    c.score = c.area;
+    // Accept ranges: each wall by what it is.
+    const Range& sloped = joint == JointType::UGroove ? gp.u_wall_deg : gp.bevel_wall_deg;
+    const Range& ra = square_a && one_square ? gp.square_wall_deg : sloped;
+    const Range& rb = !square_a && one_square ? gp.square_wall_deg : sloped;
+    c.accepted = check(c, "first wall", c.wall_a, ra, "deg") && check(c, "second wall", c.wall_b, rb, "deg") &&
+                 check(c, "top width", c.top_width, gp.top_width_mm, "mm") &&
+                 check(c, "mismatch", c.mismatch, gp.mismatch_mm, "mm") && check(c, "depth", c.depth, gp.depth_mm, "mm");
+    if (c.accepted) {
+      c.evidence = weigh_groove(c, wa ? wa->first : -1, wa ? wa->last : -1, wb ? wb->first : -1, wb ? wb->last : -1, la,
+                                lb, top);
+      c.weighed = true;
+    }
+    offer(c);
+  }
+
+  // Where a circle through the bottom's points from `from` on (stepping by
+  // `step`, up to 3 mm from the wall's foot, at least 6 points) touches the
+  // wall line: if the circle fits them (rms within the surface tolerance),
+  // its radius is 0.5-50 mm and it is tangent to the wall (its centre's
+  // distance to the wall within 2 tolerances of its radius). Empty otherwise.
+  std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, int from, int step, int lo, int hi) const {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int i = from; i >= lo && i <= hi && (pt(i) - foot).norm() <= 3.0; i += step) {
+      const Vec2 q = pt(i) - foot;
+      const Eigen::Vector3d row(q.x(), q.y(), 1.0);
+      m += row * row.transpose();
+      r -= row * q.squaredNorm();
+      ++n;
+    }
+    if (n < 6) return std::nullopt;
+    const Eigen::Vector3d x = m.ldlt().solve(r);
+    const Vec2 centre(-0.5 * x(0), -0.5 * x(1));
+    const double r2 = centre.squaredNorm() - x(2);
+    if (!(r2 > 0.25) || r2 > 2500.0) return std::nullopt;
+    const double radius = std::sqrt(r2);
+    double ss = 0.0;
+    for (int i = from, k = 0; k < n; i += step, ++k) {
+      const double e = (pt(i) - foot - centre).norm() - radius;
+      ss += e * e;
+    }
+    if (std::sqrt(ss / n) > tol_) return std::nullopt;
+    const Vec2 c = centre + foot;
+    if (std::abs(wall.distance(c) - radius) > 2.0 * tol_) return std::nullopt;
+    return wall.project(c);
+  }
+
+  // Closes each notch of the polyline narrower than max_mm along `along`
+  // whose inner points all lie on or deeper (along `down`) than the chord
+  // between its shoulders, the deepest by half its width or more: the points
+  // go between
+  // the shoulders (a root gap: the bottom is at the root edges' level).
+  void close_notches(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down, double max_mm) const {
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < poly.size();) {
+      poly[out++] = poly[i];
+      std::size_t best = i + 1;
+      for (std::size_t j = i + 2; j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
+        const Vec2 d = poly[j] - poly[i];
+        const double du = d.dot(along);
+        if (du <= 0.0) continue;
+        bool below = true;
+        double deepest = 0.0;
+        for (std::size_t m = i + 1; m < j && below; ++m) {
+          const double t = (poly[m] - poly[i]).dot(along) / du;
+          const double v = (poly[m] - (poly[i] + t * d)).dot(down);
+          below = v > -tol_;
+          deepest = std::max(deepest, v);
+        }
+        // A notch is steep (a gap's walls, rays into it): a curved bottom
+        // (a U's radius) is no notch.
+        if (below && deepest >= std::max(0.5 * du, 2.0 * tol_)) best = j;
+      }
+      i = best;
+    }
+    poly.resize(out);
+  }
+
+  // The groove reading's evidence (Evidence): over the tops' points within
+  // window_mm of the top edges and every point between them, the robust cost
+  // of "no groove: the tops' line through all" less that of the reading (the
+  // tops and walls their lines; the bottom is what it is: no cost). Points
+  // in front of the tops' line between the edges fit nothing (unexplained).
+  Evidence weigh_groove(const Candidate& c, int wa0, int wa1, int wb0, int wb1, const Line& la, const Line& lb,
+                        const Line& top) const {
+    Evidence ev;
+    const double w = p_.confidence.window_mm;
+    const Vec2 b1 = *c.bp[1], b5 = *c.bp[5];
+    double null_cost = 0.0, cost_model = 0.0, rms_a = 0.0, rms_b = 0.0;
+    int na = 0, nb = 0;
+    for (int i = c.pa.first; i <= c.pb.last; ++i) {
+      const Vec2& q = pt(i);
+      const bool on_a = i <= c.pa.last, on_b = i >= c.pb.first;
+      if ((on_a && (q - b1).norm() > w) || (on_b && (q - b5).norm() > w)) continue;
+      ++ev.points;
+      const double d0 = top.distance(q);
+      double d;
+      if (on_a) {
+        d = c.pa.line.distance(q);
+        rms_a += d * d, ++na;
+      } else if (on_b) {
+        d = c.pb.line.distance(q);
+        rms_b += d * d, ++nb;
+      } else if ((i >= wa0 && i <= wa1) || (i >= wb0 && i <= wb1)) {
+        d = std::min(la.distance(q), lb.distance(q));
+      } else if (top.signed_distance(q) > tol_) {
+        ++ev.unexplained;  // in front of the tops inside the groove: a reflection, a body
+        continue;
+      } else {
+        d = 0.0;  // the bottom
+      }
+      null_cost += cost(d0);
+      cost_model += cost(d);
+    }
+    ev.strength = null_cost - cost_model;
+    ev.fit = std::max(na ? std::sqrt(rms_a / na) : 0.0, nb ? std::sqrt(rms_b / nb) : 0.0) / sigma_;
+    return ev;
+  }
 
   void vgroove() {
     const VGrooveParams& vp = p_.vgroove;
@@ -1705,6 +2096,8 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
   out.track_point.reset();
   out.gap_mm = out.gap_paper_mm = out.angle_deg = out.mismatch_mm = kNaN;
   out.step_mm = out.depth_mm = out.area_mm2 = kNaN;
+  out.wall_angle_a_deg = out.wall_angle_b_deg = out.top_width_mm = kNaN;
+  out.fill_lowest.reset();
   out.edge_uncertainty_mm = 0.0;
   out.track_uncertainty_mm = 0.0;
   out.noise_mm = 0.0;
@@ -1851,6 +2244,10 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
   out.step_mm = best.step;
   out.depth_mm = best.depth;
   out.area_mm2 = best.area;
+  out.wall_angle_a_deg = best.wall_a;
+  out.wall_angle_b_deg = best.wall_b;
+  out.top_width_mm = best.top_width;
+  out.fill_lowest = best.fill_lowest;
   out.edge_uncertainty_mm = best.edge_unc;
   out.track_uncertainty_mm = best.track_unc;
 }

@@ -60,6 +60,15 @@ const ParamField kFields[] = {
     VTS_PARAM("vgroove.mismatch_mm", {}, params.vgroove.mismatch_mm),
     VTS_PARAM("vgroove.depth_mm", {}, params.vgroove.depth_mm),
     VTS_PARAM("vgroove.min_bevel_points", (Limit{2, 4096}), params.vgroove.min_bevel_points),
+    VTS_PARAM("groove.vgroove_fill", {}, params.groove.vgroove_fill),
+    VTS_PARAM("groove.mismatch_mm", {}, params.groove.mismatch_mm),
+    VTS_PARAM("groove.top_width_mm", {}, params.groove.top_width_mm),
+    VTS_PARAM("groove.depth_mm", {}, params.groove.depth_mm),
+    VTS_PARAM("groove.bevel_wall_deg", {}, params.groove.bevel_wall_deg),
+    VTS_PARAM("groove.u_wall_deg", {}, params.groove.u_wall_deg),
+    VTS_PARAM("groove.square_wall_deg", {}, params.groove.square_wall_deg),
+    VTS_PARAM("groove.min_wall_points", (Limit{2, 4096}), params.groove.min_wall_points),
+    VTS_PARAM("groove.max_notch_mm", (Limit{0, kInf}), params.groove.max_notch_mm),
     VTS_PARAM("noise.sigma_mm", (Limit{0, kInf}), params.noise.sigma_mm),
     VTS_PARAM("noise.adapt", {}, params.noise.adapt),
     VTS_PARAM("confidence.window_mm", (Limit{0, kInf, true}), params.confidence.window_mm),
@@ -190,7 +199,7 @@ class Reader {
   }
   void set(const YAML::Node& n, const std::string& path, Limit, std::optional<tk::JointType>& out) const {
     const auto j = tk::joint_type_from_string(scalar(n, path));
-    if (!j) fail(n, path, "'" + n.Scalar() + "' is not a joint; expected fillet, corner, lap, butt or vgroove");
+    if (!j) fail(n, path, "'" + n.Scalar() + "' is not a joint; expected fillet, corner, lap, butt, vgroove, bevel, ugroove or jgroove");
     out = *j;
   }
   void set(const YAML::Node& n, const std::string& path, Limit, tk::WebSide& out) const {

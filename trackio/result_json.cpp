@@ -26,6 +26,13 @@ constexpr std::pair<const char*, double R::*> kValues[] = {
     {"strength", &R::strength},
     {"rival_strength", &R::rival_strength},
 };
+// The grooves' values (issue 18), written after those above; files written
+// before them lack them, so a missing one reads as not measured.
+constexpr std::pair<const char*, double R::*> kGrooveValues[] = {
+    {"wall_angle_a_deg", &R::wall_angle_a_deg},
+    {"wall_angle_b_deg", &R::wall_angle_b_deg},
+    {"top_width_mm", &R::top_width_mm},
+};
 constexpr std::pair<const char*, int R::*> kCounts[] = {
     {"valid_points", &R::valid_points},
     {"outliers", &R::outliers},
@@ -90,6 +97,8 @@ Json result_to_json(std::int64_t profile, const R& r) {
   j["track_point"] = r.track_point ? point(*r.track_point) : Json();
   j["rival_track_point"] = r.rival_track_point ? point(*r.rival_track_point) : Json();
   for (const auto& [key, field] : kValues) j[key] = num(r.*field);
+  for (const auto& [key, field] : kGrooveValues) j[key] = num(r.*field);
+  j["fill_lowest"] = r.fill_lowest ? point(*r.fill_lowest) : Json();
   for (const auto& [key, field] : kCounts) j[key] = r.*field;
   Json segs = Json::array();
   for (const auto& s : r.segments) {
@@ -147,6 +156,9 @@ R result_from_json(const Json& j, std::int64_t* profile) {
   r.track_point = point_from(at(j, "track_point"));
   r.rival_track_point = point_from(at(j, "rival_track_point"));
   for (const auto& [key, field] : kValues) r.*field = value(j, key);
+  for (const auto& [key, field] : kGrooveValues)
+    if (j.contains(key)) r.*field = value(j, key);
+  if (j.contains("fill_lowest")) r.fill_lowest = point_from(j.at("fill_lowest"));
   for (const auto& [key, field] : kCounts) r.*field = integer<int>(j, key);
   const Json& segs = at(j, "segments");
   if (!segs.is_array()) throw JsonError("'segments': expected a list");

@@ -255,7 +255,7 @@ TEST_CASE("vts track: bad input exits 2 naming file line field and value", "[cli
       {"track profiles.txt --out o.jsonl",
        "vts track: profiles.txt: unknown file type '.txt': expected .exr (vts profile EXR) or .csv\n"},
       {"track good.csv --joint tee --out o.jsonl",
-       "vts track: --joint = 'tee': unknown joint; expected fillet, corner, lap, butt or vgroove\n"},
+       "vts track: --joint = 'tee': unknown joint; expected fillet, corner, lap, butt, vgroove, bevel, ugroove or jgroove\n"},
       {"track good.csv --split-threshold abc --out o.jsonl",
        "vts track: --split-threshold = 'abc': expected a number in mm\n"},
       {"track good.csv --split-threshold 0 --out o.jsonl",
@@ -273,12 +273,12 @@ TEST_CASE("vts track: bad input exits 2 naming file line field and value", "[cli
        "'two'\n"},
       {"track good.csv --params bad_key.yaml --out o.jsonl",
        "vts track: --params: bad_key.yaml:2: surface_tol: unknown key (expected one of: joint, surface_tol_mm, "
-       "max_joint_width_mm, square_edges, segmentation, fillet, corner, lap, butt, vgroove, noise, confidence)\n"},
+       "max_joint_width_mm, square_edges, segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)\n"},
       {"track good.csv --params bad_range.yaml --out o.jsonl",
        "vts track: --params: bad_range.yaml:2: corner.angle_deg: min 170 is greater than max 60\n"},
       {"track good.csv --params bad_joint.yaml --out o.jsonl",
-       "vts track: --params: bad_joint.yaml:2: joint: 'tee' is not a joint; expected fillet, corner, lap, butt "
-       "or vgroove\n"},
+       "vts track: --params: bad_joint.yaml:2: joint: 'tee' is not a joint; expected fillet, corner, lap, butt, "
+       "vgroove, bevel, ugroove or jgroove\n"},
       {"track good.csv --params missing.yaml --out o.jsonl", "vts track: --params: missing.yaml: cannot open file\n"},
       {"track good.csv --out nodir/o.jsonl",
        "vts track: --out = 'nodir/o.jsonl': directory '" + (dir.path / "nodir").string() + "' does not exist\n"},

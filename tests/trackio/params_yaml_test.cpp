@@ -111,7 +111,7 @@ TEST_CASE("trackio params: keys not in the file keep their values", "[trackio]")
 TEST_CASE("trackio params: errors name the file, the line and the key path", "[trackio]") {
   CHECK(error_of("a: 1\n") ==
         "p.yaml:1: a: unknown key (expected one of: joint, surface_tol_mm, max_joint_width_mm, square_edges, "
-        "segmentation, fillet, corner, lap, butt, vgroove, noise, confidence)");
+        "segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)");
   CHECK(error_of("segmentation:\n  segments:\n    split_interval: two\n") ==
         "p.yaml:3: segmentation.segments.split_interval: expected an integer, got 'two'");
   CHECK(error_of("corner: {angle_deg: [170, 60]}\n") == "p.yaml:1: corner.angle_deg: min 170 is greater than max 60");
@@ -122,7 +122,7 @@ TEST_CASE("trackio params: errors name the file, the line and the key path", "[t
   CHECK(error_of("fillet: 3\n") == "p.yaml:1: fillet: expected a map, got '3'");
   CHECK(error_of("fillet: {web: left}\n") == "p.yaml:1: fillet.web: 'left' is not auto, first or second");
   CHECK(error_of("joint: tee\n") ==
-        "p.yaml:1: joint: 'tee' is not a joint; expected fillet, corner, lap, butt or vgroove");
+        "p.yaml:1: joint: 'tee' is not a joint; expected fillet, corner, lap, butt, vgroove, bevel, ugroove or jgroove");
   CHECK(error_of("- 1\n") == "p.yaml:1: expected a map of parameters (docs/CLI.md)");
   CHECK(error_of("square_edges: yes\n") == "p.yaml:1: square_edges: expected true or false, got 'yes'");
   CHECK(error_of("segmentation: {ray_origin_yz: 3}\n") ==

@@ -42,7 +42,8 @@ TEST_CASE("trackio json: a result written by hand", "[trackio]") {
             R"("gap_mm":6.0,"gap_paper_mm":null,)"
             R"("angle_deg":null,"mismatch_mm":null,"step_mm":null,"depth_mm":null,"area_mm2":null,)"
             R"("edge_uncertainty_mm":0.0,"track_uncertainty_mm":0.0,"noise_mm":0.051235,"confidence":0.25,)"
-            R"("strength":3.5,"rival_strength":4.0,"valid_points":500,"outliers":2,)"
+            R"("strength":3.5,"rival_strength":4.0,"wall_angle_a_deg":null,"wall_angle_b_deg":null,)"
+            R"("top_width_mm":null,"fill_lowest":null,"valid_points":500,"outliers":2,)"
             R"("segments":[{"first":7,"last":7,"points":1,"line":null,"rms_mm":0.0}]})"
             "\n");
 }
@@ -77,4 +78,25 @@ TEST_CASE("trackio json: reading names the key that is missing or wrong", "[trac
   j = vts::trackio::result_to_json(0, r);
   j["valid_points"] = "many";
   CHECK_THROWS_WITH(vts::trackio::result_from_json(j), "'valid_points': expected an integer");
+}
+
+TEST_CASE("trackio json: a groove's values round-trip, and lines without them still read", "[trackio]") {
+  tk::TrackResult r;
+  r.joint = tk::JointType::UGroove;
+  r.status = tk::TrackStatus::Ok;
+  r.track_point = tk::Vec2(1.5, 310.25);
+  r.wall_angle_a_deg = 82.0, r.wall_angle_b_deg = 81.5, r.top_width_mm = 23.25;
+  r.fill_lowest = tk::Vec2(1.0, 310.5);
+  Json j = vts::trackio::result_to_json(0, r);
+  const tk::TrackResult back = vts::trackio::result_from_json(j);
+  CHECK(back.wall_angle_a_deg == 82.0);
+  CHECK(back.wall_angle_b_deg == 81.5);
+  CHECK(back.top_width_mm == 23.25);
+  REQUIRE(back.fill_lowest);
+  CHECK(*back.fill_lowest == tk::Vec2(1.0, 310.5));
+  for (const char* key : {"wall_angle_a_deg", "wall_angle_b_deg", "top_width_mm", "fill_lowest"}) j.erase(key);
+  const tk::TrackResult old = vts::trackio::result_from_json(j);
+  CHECK(std::isnan(old.wall_angle_a_deg));
+  CHECK(std::isnan(old.top_width_mm));
+  CHECK_FALSE(old.fill_lowest);
 }
