@@ -1495,23 +1495,32 @@ class Matcher {
       k = n_seg - 1;
       while (k >= 0 && s_.segments[k].first > end + dir) --k;
     }
+    // Of the segments starting within max_edge_mm, the one with the most
+    // points (noise cuts short pieces at any angle off the edge).
+    int pick = -1;
     for (; k >= 0 && k < n_seg; k += dir) {
       const Segment& sg = s_.segments[k];
-      if (dir > 0 ? sg.first >= stop : sg.last <= stop) return std::nullopt;
+      if (dir > 0 ? sg.first >= stop : sg.last <= stop) break;
       const Vec2& near = pt(dir > 0 ? sg.first : sg.last);
-      if ((near - pt(end)).norm() > gp.max_edge_mm) return std::nullopt;
+      if ((near - pt(end)).norm() > gp.max_edge_mm) break;
       if (!sg.fitted || sg.count() < gp.min_wall_points || acute_angle_deg(sg.line, top.line) < gp.min_wall_deg)
         continue;
+      if (pick < 0 || sg.count() > s_.segments[pick].count()) pick = k;
+    }
+    if (pick >= 0) {
+      k = pick;
+      const Segment& sg = s_.segments[k];
       Wall w{sg.first, sg.last, sg.line};
       PointSums sums = sg.sums;
       // Past up to two pieces of at most 8 points off its line (a reflection
-      // cluster on the wall),
-      // to the next segment on it.
+      // cluster on the wall), to the next segment on it.
       int skipped = 0;
       for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
         const Segment& nx = s_.segments[m];
         if (dir > 0 ? nx.first >= stop : nx.last <= stop) break;
-        bool on = true;
+        // On it: a line of 3 or more points along it (a few points of the
+        // bottom at the corner also lie within the tolerance of it).
+        bool on = nx.fitted && nx.count() >= 3 && acute_angle_deg(nx.line, w.line) <= 15.0;
         for (int i = nx.first; i <= nx.last && on; ++i) on = w.line.distance(pt(i)) <= tol_;
         if (!on && nx.count() <= 8 && ++skipped <= 2) continue;
         if (!on) break;
@@ -1582,25 +1591,29 @@ class Matcher {
     // A toe: where the wall meets the bottom: the wall's line and the line of
     // the bottom's first few points, if they cross near the wall's last point;
     // else that point on the wall's line.
-    auto toe = [&](const Line& wall, int wall_end, int from, int step) {
+    auto toe = [&](const Line& wall, const Vec2& top_edge, int wall_end, int from, int step) {
       const Vec2 foot = wall.project(pt(wall_end));
       // A radius at the foot (U, J): the bottom's points next to the wall lie
       // on a circle tangent to it; the toe is where it touches the wall.
-      if (const auto t = tangent_toe(wall, foot, from, step, bot_first, bot_last)) return *t;
-      // At least 4 points on a line, the first right beside the wall's foot.
+      if (const auto t = tangent_toe(wall, foot, (top_edge - foot).normalized(), from, step, bot_first, bot_last))
+        return *t;
+      // The bottom's points within 3 mm of the wall's foot that lie clearly
+      // off the wall's line (2 tolerances: the corner's points are both), at
+      // least 4, on a line, the first right beside the foot.
       if (from < bot_first || from > bot_last || (pt(from) - foot).norm() > 1.0) return foot;
-      int to = from;
-      for (int k = 0; k < 4 && to + step >= bot_first && to + step <= bot_last; ++k) to += step;
-      if (std::abs(to - from) < 3) return foot;
-      const auto f = s_.fit(std::min(from, to), std::max(from, to));
+      PointSums sums;
+      for (int i = from; i >= bot_first && i <= bot_last && (pt(i) - foot).norm() <= 3.0; i += step)
+        if (wall.distance(pt(i)) > 2.0 * tol_) sums.add(pt(i) - s_.ref_);
+      if (sums.n < 4) return foot;
+      const auto f = s_.fit(sums);
       if (!f || f->rms_mm > tol_) return foot;
       const auto x = intersect(wall, f->line, 0.2);
       return x && (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
     };
-    const Vec2 b2 = wa ? toe(la, wa->last, bot_first, +1)
-                       : (bot_first <= bot_last ? toe(la, bot_first, bot_first, +1) : la.project(pt(b.first)));
-    const Vec2 b4 = wb ? toe(lb, wb->first, bot_last, -1)
-                       : (bot_first <= bot_last ? toe(lb, bot_last, bot_last, -1) : lb.project(pt(a.last)));
+    const Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1)
+                       : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1) : la.project(pt(b.first)));
+    const Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1)
+                       : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1) : lb.project(pt(a.last)));
     if ((b4 - b2).dot(along) < -tol_) return;
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
@@ -1682,10 +1695,13 @@ class Matcher {
 
   // Where a circle through the bottom's points from `from` on (stepping by
   // `step`, up to 3 mm from the wall's foot, at least 6 points) touches the
-  // wall line: if the circle fits them (rms within the surface tolerance),
-  // its radius is 0.5-50 mm and it is tangent to the wall (its centre's
-  // distance to the wall within 2 tolerances of its radius). Empty otherwise.
-  std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, int from, int step, int lo, int hi) const {
+  // wall line (`up`: along it from the foot towards the top edge): if the circle fits them (rms within the surface tolerance),
+  // its radius is 0.5-50 mm, the points turn 15 degrees or more on it, it
+  // is tangent to the wall (its centre's distance to the wall within 2
+  // tolerances of its radius) and it touches the wall at or above the
+  // wall's last point. Empty otherwise.
+  std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, const Vec2& up, int from, int step, int lo,
+                                  int hi) const {
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     int n = 0;
@@ -1708,9 +1724,19 @@ class Matcher {
       ss += e * e;
     }
     if (std::sqrt(ss / n) > tol_) return std::nullopt;
+    // The points must turn on it (15 degrees or more): a flat bottom with
+    // noise fits a huge circle that may touch the wall anywhere.
+    const Vec2 q0 = pt(from) - foot - centre, q1 = pt(from + (n - 1) * step) - foot - centre;
+    if (std::abs(std::atan2(q0.x() * q1.y() - q0.y() * q1.x(), q0.dot(q1))) < 15.0 * std::numbers::pi / 180.0)
+      return std::nullopt;
     const Vec2 c = centre + foot;
     if (std::abs(wall.distance(c) - radius) > 2.0 * tol_) return std::nullopt;
-    return wall.project(c);
+    // The straight wall ends where the radius starts: not below its last
+    // point (a sharp corner with noise fits a small circle touching the
+    // wall's line below it).
+    const Vec2 t = wall.project(c);
+    if ((t - foot).dot(up) < -tol_) return std::nullopt;
+    return t;
   }
 
   // Closes each notch of the polyline narrower than max_mm along `along`

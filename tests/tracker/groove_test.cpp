@@ -329,3 +329,53 @@ TEST_CASE("groove: noisy grooves within the documented tolerances", "[tracker][g
     }
   }
 }
+
+TEST_CASE("groove: grooves like the issue's real recordings, at 400 mm with 0.1 mm noise", "[tracker][groove]") {
+  // Issue 18's real thick-plate grooves, seen from 400 mm by 2,048 columns
+  // with 0.1 mm range noise (what the stripe images gave on flat plate):
+  // a wide V filled flat (56 mm wide, 33 mm left, 60 degrees), a deep
+  // narrow U (23 mm wide, 35 deep, walls 8 degrees off vertical) and a
+  // steep-walled groove filled flat (50 mm wide, 30 deep, walls 75 degrees).
+  struct Case {
+    const char* name;
+    tk::JointType joint;
+    Groove g;
+  };
+  Groove wide_v;
+  wide_v.thickness = 47.0, wide_v.root_face = 2.0, wide_v.gap = 4.04, wide_v.passes = 3, wide_v.layer = 4.0;
+  Groove deep_u;
+  deep_u.thickness = 37.0, deep_u.gap = 0.0, deep_u.wall_a = deep_u.wall_b = Wall::Curved;
+  deep_u.beta_a_deg = deep_u.beta_b_deg = 8.0, deep_u.radius = 7.5;
+  Groove steep;
+  steep.thickness = 62.0, steep.gap = 17.8, steep.beta_a_deg = steep.beta_b_deg = 15.0, steep.passes = 6;
+  steep.layer = 5.0;
+  const Case cases[] = {{"wide V", tk::JointType::VGroove, wide_v},
+                        {"deep U", tk::JointType::UGroove, deep_u},
+                        {"steep", tk::JointType::VGroove, steep}};
+  for (const Case& c : cases) {
+    Scan s = scan(c.g, 400.0, 2048, -2.0);
+    CHECK(s.truth.width == Approx(c.g.wall_a == Wall::Curved ? 22.9 : c.g.passes == 3 ? 56.0 : 50.0).margin(0.2));
+    std::uint32_t x = 99u;
+    auto uni = [&] {
+      x = x * 1664525u + 1013904223u;
+      return (x >> 8) * (1.0 / 16777216.0) - 0.5;
+    };
+    for (int i = 0; i < s.profile.size(); ++i) {
+      if (!s.profile.valid[i]) continue;
+      const double n = (uni() + uni() + uni()) * 2.0 * 0.1;
+      const double r = std::hypot(s.profile.y[i], s.profile.z[i]);
+      s.profile.y[i] = static_cast<float>(s.profile.y[i] * (r + n) / r);
+      s.profile.z[i] = static_cast<float>(s.profile.z[i] * (r + n) / r);
+    }
+    const auto r = track(s.profile, c.joint, true);
+    const Truth& t = s.truth;
+    INFO(c.name << ": " << tk::to_string(r.status) << " " << r.reason);
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    CHECK((*r.break_points[1] - t.b1).norm() < 0.5);
+    CHECK((*r.break_points[5] - t.b5).norm() < 0.5);
+    CHECK(r.angle_deg == Approx(180.0 - t.wall_a - t.wall_b).margin(1.0));
+    CHECK(r.depth_mm == Approx(t.depth).margin(0.3));
+    CHECK(r.area_mm2 == Approx(t.area).epsilon(0.03));
+    CHECK((*r.track_point - t.b3).norm() < 0.5);
+  }
+}
