@@ -47,7 +47,7 @@ int run(int argc, char** argv) {
   cli.option_defaults()->always_capture_default(false);
   auto* cell = cli.add_option("--cell", o.app.cell,
                               "Built-in cell (`vts cells`): fillet, corner, lap, butt, vgroove, plate, "
-                              "static-A .. static-F. Default: static-B")
+                              "static-A .. static-F, the grooves (bevel, ugroove, ...). Default: static-B")
                    ->type_name("NAME");
   auto* scene = cli.add_option("--scene", o.app.scene, "Scene file (YAML, docs/SCENE_FORMAT.md)")
                     ->type_name("FILE");

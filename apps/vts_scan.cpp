@@ -161,7 +161,8 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
 
   auto* cell = scan->add_option("--cell", o.cell,
                                 "Built-in cell to scan (list: `vts cells`): fillet, corner, lap, butt, "
-                                "vgroove, plate, static-A .. static-F. Default: static-B")
+                                "vgroove, plate, static-A .. static-F, the grooves (bevel, ugroove, ...). "
+                                "Default: static-B")
                    ->type_name("NAME");
   auto* scene = scan->add_option("--scene", o.scene,
                                  "Scene file to scan instead of a built-in cell (YAML, "

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "sensor/presets.h"
+
 namespace vts {
 namespace {
 
@@ -26,6 +28,37 @@ constexpr Builtin kBuiltins[] = {
     {"static-F", "paper Table 2 F: 90-degree fillet, sensor at 45 degrees, 143 mm, gap 2 mm"},
     {"fillet-1m",
      "the fillet 600 mm long, every face a 0.78 mm grid: 1010888 triangles (benchmarks)", true},
+    {"vgroove-thick",
+     "60-degree v-groove in 40 mm plates, 2 mm gap and root face, 3 passes of 4 mm laid (crown 0.8), "
+     "lps-1280-mid at 200 mm"},
+    {"bevel", "single bevel, 45 degrees, 12 mm plates, 1 mm gap, 1.5 mm root face, lps-2048-short at 90 mm"},
+    {"bevel-thick",
+     "single bevel, 45 degrees, 30 mm plates, 2 passes of 4 mm laid (crown 0.8), lps-1280-mid at 200 mm"},
+    {"ugroove", "U-groove, 16 degrees included, bottom radius 6 mm, 30 mm plates, 1 mm gap, lps-1280-mid at 200 mm"},
+    {"ugroove-fill",
+     "the ugroove with 4 passes of 3.5 mm laid (crown 0.6), lps-1280-mid at 200 mm"},
+    {"jgroove",
+     "J-groove, wall 20 degrees from vertical, bottom radius 6 mm, 25 mm plates, 1 mm gap, lps-1280-mid at 150 mm"},
+};
+
+// The groove cells: a joint's defaults changed as listed, seen straight down
+// its z by a sensor preset at a standoff from the root (docs/CELLS.md).
+struct GrooveCell {
+  std::string_view name;
+  JointType type;
+  double thickness_mm, angle_deg, radius_mm, gap_mm, root_face_mm;
+  int passes;
+  double layer_mm, crown_mm;
+  std::string_view preset;
+  double standoff_mm;
+};
+constexpr GrooveCell kGrooveCells[] = {
+    {"vgroove-thick", JointType::VGroove, 40.0, 60.0, 5.0, 2.0, 2.0, 3, 4.0, 0.8, "lps-1280-mid", 200.0},
+    {"bevel", JointType::Bevel, 12.0, 45.0, 5.0, 1.0, 1.5, 0, 3.0, 0.5, "lps-2048-short", 90.0},
+    {"bevel-thick", JointType::Bevel, 30.0, 45.0, 5.0, 1.0, 1.5, 2, 4.0, 0.8, "lps-1280-mid", 200.0},
+    {"ugroove", JointType::UGroove, 30.0, 16.0, 6.0, 1.0, 2.0, 0, 3.0, 0.5, "lps-1280-mid", 200.0},
+    {"ugroove-fill", JointType::UGroove, 30.0, 16.0, 6.0, 1.0, 2.0, 4, 3.5, 0.6, "lps-1280-mid", 200.0},
+    {"jgroove", JointType::JGroove, 25.0, 20.0, 6.0, 1.0, 2.0, 0, 3.0, 0.5, "lps-1280-mid", 150.0},
 };
 
 // fillet-1m: the built-in fillet, longer and densely meshed (docs/CELLS.md).
@@ -108,6 +141,21 @@ std::optional<Cell> builtin_cell(std::string_view name) {
       name == "vgroove") {
     const JointType type = *joint_type_from_string(name);
     return single_workpiece_cell(name, type, default_params(type), kDefaultStandoffMm);
+  }
+  for (const GrooveCell& g : kGrooveCells) {
+    if (name != g.name) continue;
+    JointParams p = default_params(g.type);
+    p.thickness_mm = g.thickness_mm;
+    p.angle_deg = g.angle_deg;
+    p.radius_mm = g.radius_mm;
+    p.gap_mm = g.gap_mm;
+    p.root_face_mm = g.root_face_mm;
+    p.passes = g.passes;
+    p.layer_mm = g.layer_mm;
+    p.crown_mm = g.crown_mm;
+    Cell cell = single_workpiece_cell(name, g.type, p, g.standoff_mm);
+    cell.scanner = *sensor_preset(g.preset);
+    return cell;
   }
   if (name == "fillet-1m") {
     JointParams p = default_params(JointType::Fillet);

@@ -46,7 +46,8 @@ Vec3 default_view_direction(const Workpiece& workpiece);
 // benchmark-sized ones (fillet-1m), for loops that build or scan every cell.
 enum class CellSet { All, Small };
 
-// fillet, corner, lap, butt, vgroove, plate, static-A .. static-F, fillet-1m
+// fillet, corner, lap, butt, vgroove, plate, static-A .. static-F, fillet-1m,
+// vgroove-thick, bevel, bevel-thick, ugroove, ugroove-fill, jgroove
 std::vector<std::string> builtin_cell_names(CellSet set = CellSet::All);
 inline constexpr std::string_view kDefaultCell = "static-B";
 std::optional<Cell> builtin_cell(std::string_view name);

@@ -212,7 +212,17 @@ class ReferenceSource final : public ProfileSource {
     int columns[kPacket];
     int count = 0;
     auto flush = [&] {
-      for (int k = count; k < kPacket; ++k) valid[k] = 0;
+      // Unused lanes get a harmless ray too: left as they were (stack
+      // garbage, or an earlier packet's occluded ray with tfar = -inf), they
+      // can fail Embree's own ray checks (asserted in Debian's build) even
+      // though they are masked off.
+      for (int k = count; k < kPacket; ++k) {
+        valid[k] = 0;
+        ray.org_x[k] = ray.org_y[k] = ray.org_z[k] = 0.0f;
+        ray.dir_x[k] = ray.dir_y[k] = 0.0f;
+        ray.dir_z[k] = 1.0f;
+        ray.tnear[k] = ray.tfar[k] = ray.time[k] = 0.0f;
+      }
       rtcOccluded16(valid, scene_.get(), &context, &ray);
       for (int k = 0; k < count; ++k)
         if (ray.tfar[k] < 0.0f) out.camera_visible[columns[k]] = 0;

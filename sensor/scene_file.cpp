@@ -235,6 +235,14 @@ class Parser {
     return v;
   }
 
+  // An integer that fits an int; `key` names it in the message.
+  int int_field(const Field& f, std::string_view key) const {
+    const long long v = integer(f);
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+      fail(f, std::string(key) + " = " + std::to_string(v) + ": out of range");
+    return static_cast<int>(v);
+  }
+
   std::string string(const Field& f) const {
     if (!f.node.IsScalar()) fail(f, "expected a string, got " + describe(f.node));
     return f.node.Scalar();
@@ -306,14 +314,8 @@ class Parser {
     }
     for (const auto& k : kScannerNumbers)
       if (auto x = m.get(k.key)) d.*k.member = number(*x);
-    for (const auto& k : kScannerInts) {
-      if (auto x = m.get(k.key)) {
-        const long long v = integer(*x);
-        if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-          fail(*x, std::string(k.key) + " = " + std::to_string(v) + ": out of range");
-        d.*k.member = static_cast<int>(v);
-      }
-    }
+    for (const auto& k : kScannerInts)
+      if (auto x = m.get(k.key)) d.*k.member = int_field(*x, k.key);
     if (auto x = m.get("tool_from_laser")) d.tool_from_laser = pose(*x);
     if (auto x = m.get("ideal")) d.ideal = boolean(*x);
     if (const std::string err = validate(d); !err.empty()) fail_validation(m, err);
@@ -324,7 +326,8 @@ class Parser {
     const std::string name = string(f);
     const auto type = joint_type_from_string(name);
     if (!type)
-      fail(f, "unknown joint '" + name + "' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
+      fail(f, "unknown joint '" + name +
+                  "' (expected one of: fillet, corner, lap, butt, vgroove, bevel, ugroove, jgroove, plate)");
     return *type;
   }
 
@@ -388,9 +391,11 @@ class Parser {
     static const char* const kParamNames[] = {"length_mm",   "width_mm",     "thickness_mm",
                                               "height_mm",   "gap_mm",       "angle_deg",
                                               "mismatch_mm", "root_face_mm", "segment_mm",
-                                              "cell_mm"};
+                                              "cell_mm",     "layer_mm",     "crown_mm",
+                                              "radius_mm"};
     std::vector<std::string> allowed = {"joint", "pose"};
     for (const char* n : kParamNames) allowed.emplace_back(n);
+    allowed.emplace_back("passes");
     allowed.emplace_back("mesh");
     const Map m(*this, f, allowed);
 
@@ -399,9 +404,11 @@ class Parser {
     double* const slots[] = {&p.length_mm,   &p.width_mm,     &p.thickness_mm,
                              &p.height_mm,   &p.gap_mm,       &p.angle_deg,
                              &p.mismatch_mm, &p.root_face_mm, &p.segment_mm,
-                             &p.cell_mm};
+                             &p.cell_mm,     &p.layer_mm,     &p.crown_mm,
+                             &p.radius_mm};
     for (std::size_t i = 0; i < std::size(kParamNames); ++i)
       if (auto x = m.get(kParamNames[i])) *slots[i] = number(*x);
+    if (auto x = m.get("passes")) p.passes = int_field(*x, "passes");
     if (const std::string err = validate(type, p); !err.empty()) fail_validation(m, err);
 
     Pose world_from_joint = Pose::Identity();
@@ -621,6 +628,18 @@ std::string scene_to_yaml(const Cell& cell) {
     out << "    root_face_mm: " << num(p.root_face_mm) << "\n";
     out << "    segment_mm: " << num(p.segment_mm) << "\n";
     out << "    cell_mm: " << num(p.cell_mm) << "\n";
+    // The groove keys, where they apply; the v-groove's only when not the
+    // defaults (its scenes read as they did before the beads).
+    const JointParams d = default_params(w.type);
+    const bool beads = w.type != JointType::VGroove || p.passes != d.passes || p.layer_mm != d.layer_mm ||
+                       p.crown_mm != d.crown_mm;
+    if (is_groove(w.type) && beads) {
+      out << "    passes: " << p.passes << "\n";
+      out << "    layer_mm: " << num(p.layer_mm) << "\n";
+      out << "    crown_mm: " << num(p.crown_mm) << "\n";
+    }
+    if (w.type == JointType::UGroove || w.type == JointType::JGroove)
+      out << "    radius_mm: " << num(p.radius_mm) << "\n";
     out << "    pose:\n";
     write_pose(out, "      ", w.world_from_joint);
   }

@@ -1,5 +1,7 @@
 #include "sensor/workpiece.h"
 
+#include "sensor/groove.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -12,6 +14,7 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 constexpr std::string_view kPlateName = "plate";
+constexpr int kMaxPasses = 1000;
 
 std::string bad(std::string_view field, double value, std::string_view why) {
   std::ostringstream s;
@@ -213,6 +216,17 @@ void build_vgroove(const JointParams& p, Workpiece& w) {
   w.truth.area_mm2 = std::abs(signed_area(open));
   w.truth.features = {{"left_root", {yl, 0.0}},  {"right_root", {yr, m}},
                       {"left_top", {yl - run, d}}, {"right_top", {yr + run, m + d}}};
+  // The beads, and the groove truth (docs/design/grooves.md); empty, the
+  // depth and area above stay (with mismatch the depth is thickness - root
+  // face, not measured from the tilted line B1-B5).
+  groove::add_plates(JointType::VGroove, p, w, false);
+  groove::set_truth(JointType::VGroove, p, w, p.passes == 0);
+}
+
+// Single bevel, U and J grooves: plates, beads and truth (sensor/groove.h).
+void build_groove(JointType type, const JointParams& p, Workpiece& w) {
+  groove::add_plates(type, p, w, true);
+  groove::set_truth(type, p, w, false);
 }
 
 void build_plate(const JointParams& p, Workpiece& w) {
@@ -229,9 +243,17 @@ std::optional<tracker::JointType> tracker_joint(JointType type) {
     case JointType::Lap: return tracker::JointType::Lap;
     case JointType::Butt: return tracker::JointType::Butt;
     case JointType::VGroove: return tracker::JointType::VGroove;
+    case JointType::Bevel: return tracker::JointType::Bevel;
+    case JointType::UGroove: return tracker::JointType::UGroove;
+    case JointType::JGroove: return tracker::JointType::JGroove;
     case JointType::Plate: break;
   }
   return std::nullopt;
+}
+
+bool is_groove(JointType type) {
+  return type == JointType::VGroove || type == JointType::Bevel || type == JointType::UGroove ||
+         type == JointType::JGroove;
 }
 
 // The joints are named as the tracker names its templates; the plate is ours.
@@ -245,7 +267,8 @@ std::optional<JointType> joint_type_from_string(std::string_view name) {
   if (name == kPlateName) return JointType::Plate;
   const auto t = tracker::joint_type_from_string(name);
   if (!t) return std::nullopt;
-  for (const JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt, JointType::VGroove})
+  for (const JointType type : {JointType::Fillet, JointType::Corner, JointType::Lap, JointType::Butt, JointType::VGroove,
+                               JointType::Bevel, JointType::UGroove, JointType::JGroove})
     if (tracker_joint(type) == t) return type;
   return std::nullopt;
 }
@@ -261,6 +284,15 @@ JointParams default_params(JointType type) {
       p.thickness_mm = 12.0; p.angle_deg = 60.0; p.gap_mm = 1.0; p.root_face_mm = 1.5;
       break;
     case JointType::Plate: p.width_mm = 200.0; p.angle_deg = 180.0; break;
+    case JointType::Bevel:
+      p.thickness_mm = 12.0; p.angle_deg = 45.0; p.gap_mm = 1.0; p.root_face_mm = 1.5;
+      break;
+    case JointType::UGroove:
+      p.thickness_mm = 25.0; p.angle_deg = 16.0; p.gap_mm = 1.0; p.root_face_mm = 2.0; p.radius_mm = 5.0;
+      break;
+    case JointType::JGroove:
+      p.thickness_mm = 20.0; p.angle_deg = 20.0; p.gap_mm = 1.0; p.root_face_mm = 2.0; p.radius_mm = 5.0;
+      break;
   }
   return p;
 }
@@ -270,11 +302,14 @@ std::string validate(JointType type, const JointParams& p) {
       {"length_mm", p.length_mm},       {"width_mm", p.width_mm},   {"thickness_mm", p.thickness_mm},
       {"height_mm", p.height_mm},       {"gap_mm", p.gap_mm},       {"angle_deg", p.angle_deg},
       {"mismatch_mm", p.mismatch_mm},   {"root_face_mm", p.root_face_mm}, {"segment_mm", p.segment_mm},
-      {"cell_mm", p.cell_mm}};
+      {"cell_mm", p.cell_mm},           {"layer_mm", p.layer_mm},   {"crown_mm", p.crown_mm},
+      {"radius_mm", p.radius_mm}};
   for (const auto& [field, value] : all)
     if (!std::isfinite(value)) return bad(field, value, "must be a finite number");
-  for (const auto& [field, value] : {all[0], all[1], all[2], all[3], all[8]})
+  for (const auto& [field, value] : {all[0], all[1], all[2], all[3], all[8], all[10], all[12]})
     if (value <= 0.0) return bad(field, value, "must be > 0");
+  if (p.passes < 0) return bad("passes", p.passes, "must be >= 0 (0: an empty groove)");
+  if (p.passes > kMaxPasses) return bad("passes", p.passes, "must be at most " + std::to_string(kMaxPasses));
   if (p.gap_mm < 0.0) return bad("gap_mm", p.gap_mm, "must be >= 0");
   if (p.cell_mm < 0.0) return bad("cell_mm", p.cell_mm, "must be >= 0 (0: no grid)");
   if (p.length_mm / p.segment_mm > 100000.0)
@@ -302,6 +337,8 @@ std::string validate(JointType type, const JointParams& p) {
     }
     default: break;
   }
+  if (is_groove(type))
+    if (std::string err = groove::validate(type, p); !err.empty()) return err;
   if (p.cell_mm > 0.0) {
     std::int64_t triangles = 0;
     for (const Plate& plate : build_workpiece(type, p).plates)
@@ -327,6 +364,9 @@ Workpiece build_workpiece(JointType type, const JointParams& params, const Pose&
     case JointType::Butt: build_butt(params, w); break;
     case JointType::VGroove: build_vgroove(params, w); break;
     case JointType::Plate: build_plate(params, w); break;
+    case JointType::Bevel:
+    case JointType::UGroove:
+    case JointType::JGroove: build_groove(type, params, w); break;
   }
   return w;
 }

@@ -1,6 +1,7 @@
 #pragma once
-// Workpieces for the five standard joints, built from plates, with their
-// analytic ground truth.
+// Workpieces for the standard joints and the grooves (v, single bevel, U, J,
+// with beads laid in them), built from plates, with their analytic ground
+// truth (docs/CELLS.md; the grooves' quantities: docs/design/grooves.md).
 //
 // Joint frame: x along the seam (the seam runs from x = 0 to x = length_mm),
 // y across the seam, z out of the work towards the side the sensor looks from.
@@ -21,14 +22,17 @@
 
 namespace vts {
 
-enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Plate };
+enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Plate, Bevel, UGroove, JGroove };
 
-// "fillet", "corner", "lap", "butt", "vgroove" (the tracker's template
-// names, tracker/types.h), "plate".
+// "fillet", "corner", "lap", "butt", "vgroove", "bevel", "ugroove",
+// "jgroove" (the tracker's template names, tracker/types.h), "plate".
 std::string_view to_string(JointType type);
 std::optional<JointType> joint_type_from_string(std::string_view name);
 // The tracker's template for a joint; none for the plate.
 std::optional<tracker::JointType> tracker_joint(JointType type);
+// vgroove, bevel, ugroove, jgroove: the joints that read passes, layer_mm and
+// crown_mm and have the groove truth (JointTruth::track_yz ...).
+bool is_groove(JointType type);
 
 // Every joint reads the fields that apply to it (see docs/SCENE_FORMAT.md);
 // default_params() gives each joint's defaults.
@@ -42,9 +46,14 @@ struct JointParams {
                                 // plate lifted off the lower one
   double angle_deg = 90.0;      // fillet: angle between the plates on the open side;
                                 // corner: inside angle between the plates (90..179);
-                                // v-groove: included groove angle
-  double mismatch_mm = 0.0;     // butt, v-groove: right plate raised by this much
-  double root_face_mm = 1.0;    // v-groove: height of the unbevelled land
+                                // v-groove, U-groove: included groove angle;
+                                // bevel, J-groove: side b's wall from vertical
+  double mismatch_mm = 0.0;     // butt, grooves: right plate (side b) raised by this much
+  double root_face_mm = 1.0;    // grooves: height of the unbevelled land
+  int passes = 0;               // grooves: beads laid in the groove (0: empty)
+  double layer_mm = 3.0;        // grooves: pass k fills up to k * layer_mm above the root
+  double crown_mm = 0.5;        // grooves: sagitta of the last pass's cap (< 0: concave)
+  double radius_mm = 5.0;       // U-groove, J-groove: radius of the bottom arc
   double segment_mm = 10.0;     // mesh: plates are cut every segment_mm along x
   double cell_mm = 0.0;         // mesh: 0 = only the cuts along x; > 0 = every face
                                 // is also a grid of about cell_mm x cell_mm quads
@@ -55,6 +64,11 @@ JointParams default_params(JointType type);
 // Empty when the parameters are usable for the joint, else a message naming
 // the field and value, e.g. "gap_mm = -1: must be >= 0".
 std::string validate(JointType type, const JointParams& params);
+
+// Curved surfaces (the U and J grooves' bottom arcs, the last bead's cap) are
+// polylines whose chords stay within this of the true arc; a non-convex
+// section (a plate under an arc, the beads) is several convex plates.
+inline constexpr double kArcChordErrorMm = 0.002;
 
 // A plate: a convex cross-section polygon in the joint's y-z plane (mm,
 // counter-clockwise), extruded along x from x0_mm to x1_mm.
@@ -68,11 +82,25 @@ struct Plate {
 struct JointTruth {
   Vec2 root_yz = Vec2::Zero();  // track reference point (always the origin)
   double gap_mm = 0.0;
-  double angle_deg = 0.0;       // angle between the two joined surfaces
+  double angle_deg = 0.0;       // angle between the two joined surfaces (grooves: included)
   double mismatch_mm = 0.0;
   double step_mm = 0.0;         // lap: height of the upper plate's edge above the lower plate
-  double depth_mm = 0.0;        // v-groove: depth from plate top to root
-  double area_mm2 = 0.0;        // v-groove: open cross-section area of the groove
+  // Grooves: what is left to fill (docs/design/grooves.md): from the line
+  // B1-B5 to fill_lowest, and the area between that line and the groove's
+  // surface. An empty v-groove keeps the depth from plate top to root
+  // (thickness - root face) even with mismatch, as before the fill existed.
+  double depth_mm = 0.0;
+  double area_mm2 = 0.0;
+  // Grooves only (zero for the other joints), docs/design/grooves.md:
+  Vec2 track_yz = Vec2::Zero();     // B3, the track point (an empty v-groove: the origin)
+  Vec2 top_a_yz = Vec2::Zero();     // B1: plate a's top edge
+  Vec2 top_b_yz = Vec2::Zero();     // B5: plate b's top edge
+  Vec2 toe_a_yz = Vec2::Zero();     // B2: the bottom surface meets wall a
+  Vec2 toe_b_yz = Vec2::Zero();     // B4: the bottom surface meets wall b
+  Vec2 fill_lowest_yz = Vec2::Zero();  // the bottom surface's point farthest from B1-B5
+  double wall_angle_a_deg = 0.0;    // wall a's straight part against plate a's top (90: square)
+  double wall_angle_b_deg = 0.0;
+  double top_width_mm = 0.0;        // |B5 - B1|
   // Named feature points, e.g. {"web_edge", (0, gap)}; see docs/SCENE_FORMAT.md.
   std::vector<std::pair<std::string, Vec2>> features;
 };

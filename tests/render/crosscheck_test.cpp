@@ -10,6 +10,7 @@
 
 #include "render/raster_source.h"
 #include "sensor/cell.h"
+#include "sensor/presets.h"
 #include "sensor/reference_source.h"
 
 using namespace vts;
@@ -279,6 +280,29 @@ TEST_CASE("static setups A-F: points on the analytic plates and fitted lines mee
       // And it lies on the optical axis at the Table 2 distance.
       CHECK(root_sensor.x() == Approx(0.0).margin(0.01));
       CHECK(root_sensor.y() == Approx(s.distance_mm).margin(0.01));
+    }
+  }
+}
+
+// The groove cells (thick plates, arcs as polylines, beads) seen by the two
+// profile sensors and the default one at 90-400 mm from the root: raster and
+// reference agree column by column.
+TEST_CASE("raster and reference agree on the groove cells at 90-400 mm", "[gl][crosscheck][groove]") {
+  struct View {
+    const char* preset;
+    double standoff_mm;
+  };
+  const View views[] = {{"lps-2048-short", 90.0}, {"lps-1280-mid", 100.0}, {"lps-1280-mid", 150.0},
+                        {"lps-1280-mid", 300.0}, {"mspot", 400.0}};
+  for (const char* name : {"vgroove-thick", "bevel", "bevel-thick", "ugroove", "ugroove-fill", "jgroove"}) {
+    for (const View& v : views) {
+      Cell cell = *builtin_cell(name);
+      cell.scanner = *sensor_preset(v.preset);
+      cell.path = default_path(cell.workpieces.front(), v.standoff_mm);
+      cell.name = std::string(name) + " / " + v.preset + " at " + std::to_string(static_cast<int>(v.standoff_mm));
+      std::vector<Pose> poses;
+      for (int i = 0; i < 5; ++i) poses.push_back(cell.path.pose_at(i * 20));
+      check_poses(cell, poses, true);
     }
   }
 }

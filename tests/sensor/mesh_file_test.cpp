@@ -443,7 +443,7 @@ TEST_CASE("scene file: mesh workpiece errors name file line and field", "[mesh][
   CHECK(error(mesh_scene("mesh: box.stl\n    gap_mm: 1")) ==
         d + "s.yaml:6: workpieces[0].gap_mm: unknown key (expected one of: mesh, unit, joint, pose)");
   CHECK(error(mesh_scene("mesh: box.stl\n    joint: tjoint")) ==
-        d + "s.yaml:6: workpieces[0].joint: unknown joint 'tjoint' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
+        d + "s.yaml:6: workpieces[0].joint: unknown joint 'tjoint' (expected one of: fillet, corner, lap, butt, vgroove, bevel, ugroove, jgroove, plate)");
   // Without path.start the default path cannot be derived.
   CHECK(error(mesh_scene("mesh: box.stl", "")) ==
         d + "s.yaml:5: path.start: missing (required when workpieces[0] is a mesh: a mesh has no seam to derive the "

@@ -102,6 +102,10 @@ void check_same_cell(const Cell& a, const Cell& b) {
     CHECK(wa.params.root_face_mm == wb.params.root_face_mm);
     CHECK(wa.params.segment_mm == wb.params.segment_mm);
     CHECK(wa.params.cell_mm == wb.params.cell_mm);
+    CHECK(wa.params.passes == wb.params.passes);
+    CHECK(wa.params.layer_mm == wb.params.layer_mm);
+    CHECK(wa.params.crown_mm == wb.params.crown_mm);
+    CHECK(wa.params.radius_mm == wb.params.radius_mm);
     check_pose(wa.world_from_joint, wb.world_from_joint);
     CHECK(wa.plates.size() == wb.plates.size());
     CHECK(wa.is_mesh() == wb.is_mesh());
@@ -260,7 +264,7 @@ TEST_CASE("scene file: out-of-range values report validate()'s message", "[scene
 
 TEST_CASE("scene file: joints and poses and paths that make no sense", "[scene]") {
   expect_error(with_line(6, "  - joint: tee"), 6, "workpieces[0].joint",
-               "unknown joint 'tee' (expected one of: fillet, corner, lap, butt, vgroove, plate)");
+               "unknown joint 'tee' (expected one of: fillet, corner, lap, butt, vgroove, bevel, ugroove, jgroove, plate)");
   expect_error(with_line(6, "  - jiont: fillet"), 6, "workpieces[0].jiont", "unknown key");
   expect_error("workpieces:\n  - gap_mm: 1\n", 2, "workpieces[0].joint", "missing (required)");
   expect_error("name: x\n", 1, "workpieces", "missing (required)");
@@ -285,6 +289,48 @@ TEST_CASE("scene file: joints and poses and paths that make no sense", "[scene]"
   expect_error(with_line(16, "  speed_mm_s: -10"), 16, "path.speed_mm_s", "must be > 0");
   expect_error(with_line(12, "  standoff_mm: 80\n  start:"), 12, "path.standoff_mm",
                "give either start or standoff_mm");
+}
+
+TEST_CASE("scene file: groove joints and their keys", "[scene][groove]") {
+  const Cell c = vts::parse_scene(with_line(6, "  - joint: ugroove\n    passes: 2\n    layer_mm: 2.5\n    crown_mm: -0.2\n"
+                                               "    radius_mm: 6\n    thickness_mm: 30"),
+                                  "u.yaml");
+  const vts::JointParams& p = c.workpieces.at(0).params;
+  CHECK(c.workpieces[0].type == vts::JointType::UGroove);
+  CHECK(p.passes == 2);
+  CHECK(p.layer_mm == 2.5);
+  CHECK(p.crown_mm == -0.2);
+  CHECK(p.radius_mm == 6.0);
+  CHECK(p.gap_mm == 2.0);
+  CHECK(c.workpieces[0].truth.track_yz.y() == Approx(5.0 - 0.2));
+  check_same_cell(c, vts::parse_scene(vts::scene_to_yaml(c), "roundtrip.yaml"));
+  for (const char* joint : {"bevel", "jgroove", "vgroove"}) {
+    const Cell j = vts::parse_scene(with_line(6, std::string("  - joint: ") + joint + "\n    passes: 1"), "j.yaml");
+    CHECK(j.workpieces.at(0).params.passes == 1);
+    check_same_cell(j, vts::parse_scene(vts::scene_to_yaml(j), "roundtrip.yaml"));
+  }
+  // An empty v-groove's scene reads as before the beads: no new keys written.
+  const Cell v = vts::parse_scene(with_line(6, "  - joint: vgroove"), "v.yaml");
+  CHECK(vts::scene_to_yaml(v).find("passes") == std::string::npos);
+}
+
+TEST_CASE("scene file: bad groove keys name the key, its line and what is wrong", "[scene][groove]") {
+  const auto groove = [](const std::string& joint, const std::string& line) {
+    return with_line(6, "  - joint: " + joint + "\n" + line);
+  };
+  expect_error(groove("bevel", "    passes: 1.5"), 7, "workpieces[0].passes", "expected an integer, got '1.5'");
+  expect_error(groove("bevel", "    passes: -1"), 7, "workpieces[0].passes", "passes = -1: must be >= 0");
+  expect_error(groove("bevel", "    passes: 99999999999"), 7, "workpieces[0].passes", "out of range");
+  expect_error(groove("bevel", "    passes: 4"), 7, "workpieces[0].passes",
+               "passes = 4: the fill (passes x layer_mm = 12 mm, crown_mm 0.5) must stay below the plate tops");
+  expect_error(groove("vgroove", "    layer_mm: 0"), 7, "workpieces[0].layer_mm", "layer_mm = 0: must be > 0");
+  expect_error(groove("vgroove", "    crown_mm: high"), 7, "workpieces[0].crown_mm", "expected a number, got 'high'");
+  expect_error(groove("ugroove", "    radius_mm: 40"), 7, "workpieces[0].radius_mm",
+               "radius_mm = 40: the bottom arc does not fit");
+  expect_error(groove("jgroove", "    radius_mm: 0"), 7, "workpieces[0].radius_mm", "radius_mm = 0: must be > 0");
+  expect_error(groove("bevel", "    passes: 1\n    crown_mm: 3"), 8, "workpieces[0].crown_mm",
+               "crown_mm = 3: must be smaller in size than half the cap's width");
+  expect_error(groove("bevel", "    angle_deg: 95"), 7, "workpieces[0].angle_deg", "angle_deg = 95: bevel angle");
 }
 
 TEST_CASE("scene file: missing file", "[scene]") {
