@@ -739,19 +739,10 @@ Profile make_groove_profile(const GrooveShape& g, const Sensor& sensor, double r
     bad("the fill (level " + std::to_string(level) + " mm, crown " + std::to_string(g.crown_mm) +
         " mm) does not stay below the tops (" + std::to_string(D + std::min(g.mismatch_mm, 0.0)) + " mm above the root)");
   if (g.passes > 0 && level < std::max(g.mismatch_mm, 0.0)) bad("the fill does not reach the higher root edge");
-  JointSpec spec;
-  spec.joint = g.joint;
-  spec.plate_half_length_mm = 4.0 * root_standoff_mm + 100.0;
-  spec.depth_mm = D;
-  spec.root_face_mm = g.root_face_mm;
-  spec.gap_mm = g.gap_mm;
-  spec.mismatch_mm = g.mismatch_mm;
-  spec.angle_deg = g.angle_deg;
-  spec.radius_mm = g.radius_mm;
-  spec.passes = g.passes;
-  spec.layer_mm = g.layer_mm;
-  spec.crown_mm = g.crown_mm;
-  spec.ripple_mm = g.ripple_mm;
+  const JointSpec spec{.joint = g.joint, .plate_half_length_mm = 4.0 * root_standoff_mm + 100.0, .gap_mm = g.gap_mm,
+                       .mismatch_mm = g.mismatch_mm, .angle_deg = g.angle_deg, .root_face_mm = g.root_face_mm,
+                       .depth_mm = D, .radius_mm = g.radius_mm, .passes = g.passes, .layer_mm = g.layer_mm,
+                       .crown_mm = g.crown_mm, .ripple_mm = g.ripple_mm};
   const Section sec = build_section(spec, DecoySpec{});
   Affine map;
   map.A << 1.0, 0.0, 0.0, -1.0;

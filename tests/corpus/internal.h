@@ -53,7 +53,7 @@ struct JointSpec {
   double plate_half_length_mm = 500;
   double gap_mm = 0;
   double mismatch_mm = 0;  // signed: + raises plate 2 (+y)
-  EdgeStyle edge;
+  EdgeStyle edge{};
   bool tack = false;
   double tack_a_mm = 0, tack_b_mm = 0, tack_c = 0;  // joint-specific tack shape draws
   bool backing = false;
@@ -69,8 +69,8 @@ struct JointSpec {
   int passes = 0;                // beads laid
   double layer_mm = 3, crown_mm = 0.5;
   double ripple_mm = 0, ripple_wavelength_mm = 3, ripple_phase = 0;  // bead ripples on the cap
-  std::vector<std::string> tags;
-  std::vector<std::pair<std::string, double>> params;
+  std::vector<std::string> tags{};
+  std::vector<std::pair<std::string, double>> params{};
 };
 JointSpec draw_joint(Joint joint, Rng& rng, const SensorDraw& sensor, const Probabilities& p);
 
