@@ -126,6 +126,36 @@ TEST_CASE("vts-corpus: writes the profiles as vts track CSV and the truth as JSO
   }
 }
 
+TEST_CASE("vts-corpus: groove joints write the groove truth", "[corpus][cli]") {
+  TempDir dir;
+  for (vc::Joint joint : vc::kGrooveJoints) {
+    const std::string name = vc::joint_name(joint);
+    INFO(name);
+    REQUIRE(run("--joint " + name + " --count 3 --seed 5 --truth " + (dir / "g.jsonl"), dir) == 0);
+    const std::vector<std::string> truth = split(slurp(dir / "g.jsonl"), '\n');
+    REQUIRE(truth.size() == 3u);
+    for (int k = 0; k < 3; ++k) {
+      const auto j = nlohmann::json::parse(truth[k]);
+      const vc::Truth t = vc::make_profile(joint, 5 + k).truth;
+      CHECK(j["joint"] == name);
+      CHECK(j["depth_mm"].get<double>() == t.depth_mm);
+      CHECK(j["area_mm2"].get<double>() == t.area_mm2);
+      CHECK(j["wall_angle_a_deg"].get<double>() == t.wall_angle_a_deg);
+      CHECK(j["wall_angle_b_deg"].get<double>() == t.wall_angle_b_deg);
+      CHECK(j["top_width_mm"].get<double>() == t.top_width_mm);
+      CHECK(j["fill_lowest"]["y"].get<double>() == t.fill_lowest_y_mm);
+      CHECK(j["fill_lowest"]["z"].get<double>() == t.fill_lowest_z_mm);
+      CHECK(j["passes"].get<int>() == t.passes);
+      for (const char* b : {"B1", "B2", "B3", "B4", "B5"}) CHECK(j["break_points"].contains(b));
+    }
+  }
+  REQUIRE(run("--joint butt --count 1 --truth " + (dir / "b.jsonl"), dir) == 0);
+  const auto j = nlohmann::json::parse(slurp(dir / "b.jsonl"));
+  CHECK(j["passes"].is_null());
+  CHECK(j["fill_lowest"].is_null());
+  CHECK(j["wall_angle_a_deg"].is_null());
+}
+
 TEST_CASE("vts-corpus: a recording numbers its profiles and keeps its seed", "[corpus][cli]") {
   TempDir dir;
   REQUIRE(run("--joint vgroove --recording --count 30 --seed 3 --ds 0.5 --decoy-every 10 --columns 300 --truth " +

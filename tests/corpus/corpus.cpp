@@ -17,6 +17,10 @@ const char* joint_name(Joint joint) {
     case Joint::Lap: return "lap";
     case Joint::Butt: return "butt";
     case Joint::VGroove: return "vgroove";
+    case Joint::Bevel: return "bevel";
+    case Joint::UGroove: return "ugroove";
+    case Joint::JGroove: return "jgroove";
+    case Joint::VGrooveThick: return "vgroove-thick";
   }
   return "?";
 }
@@ -24,8 +28,14 @@ const char* joint_name(Joint joint) {
 std::optional<Joint> joint_from_name(std::string_view name) {
   for (Joint j : kAllJoints)
     if (name == joint_name(j)) return j;
+  for (Joint j : kGrooveJoints)
+    if (name == joint_name(j)) return j;
   if (name == "v-groove") return Joint::VGroove;
   return std::nullopt;
+}
+
+bool is_groove(Joint joint) {
+  return std::find(kGrooveJoints.begin(), kGrooveJoints.end(), joint) != kGrooveJoints.end();
 }
 
 bool Truth::has_tag(std::string_view tag) const {
@@ -61,12 +71,22 @@ const std::vector<std::pair<std::string, double>>& joint_defaults(Joint joint) {
   static const std::vector<std::pair<std::string, double>> vgroove = {
       {"gap", 0.7},         {"root_face", 0.6},     {"mismatch", 0.4},
       {"backing_bar", 0.3}, {"rounded_edges", 0.3}, {"tack_weld", 0.1}};
+  // Grooves (grooves.cpp): a thick plate (20-80 mm instead of 8-15, seen from
+  // farther), beads in the groove, ripples on the last one's cap.
+  static const std::vector<std::pair<std::string, double>> groove = {
+      {"thick", 0.5},        {"gap", 0.6},          {"root_face", 0.6},     {"mismatch", 0.3},
+      {"passes", 0.75},      {"bead_ripples", 0.4}, {"backing_bar", 0.2},   {"rounded_edges", 0.2}};
+  static const std::vector<std::pair<std::string, double>> vgroove_thick(groove.begin() + 1, groove.end());
   switch (joint) {
     case Joint::Fillet: return fillet;
     case Joint::Corner: return corner;
     case Joint::Lap: return lap;
     case Joint::Butt: return butt;
     case Joint::VGroove: return vgroove;
+    case Joint::Bevel:
+    case Joint::UGroove:
+    case Joint::JGroove: return groove;
+    case Joint::VGrooveThick: return vgroove_thick;  // always thick
   }
   return fillet;
 }
@@ -124,7 +144,7 @@ double Probabilities::operator()(const std::string& name) const {
   return it->second;
 }
 
-SensorDraw draw_sensor(Rng& rng, const Options& options) {
+SensorDraw draw_sensor(Rng& rng, const Options& options, double standoff_lo_mm, double standoff_hi_mm) {
   // Every value is drawn even when an option overrides it, so the draws that
   // follow stay the same.
   SensorDraw sd;
@@ -132,7 +152,7 @@ SensorDraw draw_sensor(Rng& rng, const Options& options) {
   sd.sensor.columns = options.columns > 0 ? options.columns : columns;
   sd.sensor.fan_deg = rng.uniform(30, 50);
   sd.sensor.tangent_spacing = rng.chance(0.5);
-  const double standoff = rng.uniform(50, 250);
+  const double standoff = rng.uniform(standoff_lo_mm, standoff_hi_mm);
   sd.standoff_mm = options.standoff_mm > 0 ? options.standoff_mm : standoff;
   sd.nominal_standoff_mm = sd.standoff_mm * rng.uniform(0.9, 1.1);
   // Measuring range: nominal standoff +- 40 %.
@@ -380,7 +400,8 @@ Profile render_joint(Joint joint, const Options& opt, const Probabilities& p, co
     // Placement: the track point at the standoff, anywhere in the middle 70 %
     // of the field with the joint's features inside it; with a decoy, both in
     // view where the field allows.
-    const double field = 2 * D * tan_half;
+    // (At the plate tops for a groove: nearer, a narrower field.)
+    const double field = 2 * (D - place.top_height_mm) * tan_half;
     const double lat_max =
         std::max(0.0, std::min(0.35 * field, 0.5 * field - 1.1 * place.halfwidth_mm) - drift.margin_mm);
     double lo = -lat_max, hi = lat_max;
@@ -508,6 +529,19 @@ Profile render_joint(Joint joint, const Options& opt, const Probabilities& p, co
       plates = {kFaceTop1, kFaceTop2};
       bevels = {kFaceBevel1, kFaceBevel2};
       break;
+    case Joint::Bevel:
+    case Joint::UGroove:
+    case Joint::JGroove:
+    case Joint::VGrooveThick: {
+      plates = {kFaceTop1, kFaceTop2};
+      // A groove's walls (a square wall is seen edge-on by the laser, a deep
+      // one hides from the camera) are counted, not required: the toes are
+      // the points a reading needs (Section::defining).
+      for (int f : {kFaceBevel1, kFaceBevel2, kFaceArc1, kFaceArc2, kFaceCap})
+        t.params.emplace_back(std::string("points_") + face_name(f), per_face[f]);
+      if (per_face[kFaceBevel1] == 0 || per_face[kFaceBevel2] == 0) add_tag(t.tags, "wall_unseen");
+      break;
+    }
   }
   // A plate with fewer points than a segment needs (8), or a v-groove bevel
   // with fewer than 3, leaves nothing to read either: the joint counts as
@@ -557,20 +591,7 @@ Profile render_joint(Joint joint, const Options& opt, const Probabilities& p, co
   prm("yaw_deg", pose.yaw_deg);
   prm("lateral_mm", lateral + drift.lateral_mm);
 
-  if (opt.keep_debug) {
-    auto dbg = std::make_shared<Debug>();
-    dbg->scene = scene;
-    dbg->sensor = sd.sensor;
-    dbg->ray_dir = cast.dir;
-    dbg->ideal_range_mm = cast.range_mm;
-    dbg->hit_face.resize(cast.edge.size());
-    for (std::size_t i = 0; i < cast.edge.size(); ++i)
-      dbg->hit_face[i] = cast.edge[i] < 0 ? -1 : scene.edges[cast.edge[i]].face;
-    dbg->status = status;
-    dbg->joint_to_sensor_A = map.A;
-    dbg->joint_to_sensor_t = map.t;
-    out.debug = dbg;
-  }
+  if (opt.keep_debug) out.debug = make_debug(scene, sd.sensor, cast, status, map.A, map.t);
   return out;
 }
 
@@ -592,6 +613,20 @@ double draw_noise_level(std::uint64_t key, const Options& o) {
 
 std::uint64_t joint_key(Joint joint, std::uint64_t seed) { return mix_seed(seed, name_key(joint_name(joint))); }
 
+// A groove's plate class is drawn first (its own stream): a thick plate is
+// seen from farther, standoff 100-400 mm instead of 50-250.
+SensorDraw draw_sensor_for(Joint joint, std::uint64_t key, Rng& rs, const Options& options, const Probabilities& p) {
+  bool thick = false;
+  if (is_groove(joint)) {
+    Rng rt = Rng::stream(key, "plate");
+    const bool coin = rt.chance(joint == Joint::VGrooveThick ? 1.0 : p("thick"));
+    thick = joint == Joint::VGrooveThick || coin;
+  }
+  SensorDraw sd = thick ? draw_sensor(rs, options, 100, 400) : draw_sensor(rs, options);
+  sd.thick = thick;
+  return sd;
+}
+
 }  // namespace
 
 Profile make_profile(Joint joint, std::uint64_t seed, const Options& options) {
@@ -600,8 +635,9 @@ Profile make_profile(Joint joint, std::uint64_t seed, const Options& options) {
   const std::uint64_t key = joint_key(joint, seed);
   Rng rs = Rng::stream(key, "sensor"), rj = Rng::stream(key, "joint"), rd = Rng::stream(key, "decoy"),
       rp = Rng::stream(key, "pose");
-  const SensorDraw sd = draw_sensor(rs, options);
-  const JointSpec spec = draw_joint(joint, rj, sd, p);
+  SensorDraw sd = draw_sensor_for(joint, key, rs, options, p);
+  JointSpec spec = draw_joint(joint, rj, sd, p);
+  if (is_groove(joint)) fit_groove_sensor(sd, spec, options);
   DecoySpec decoy = draw_decoy(joint, rd, sd);
   decoy.on = options.decoy;
   const PoseDraw pose = draw_pose(rp, p);
@@ -625,8 +661,9 @@ Profile make_recording_profile(Joint joint, std::uint64_t seed, int count, int i
   const std::uint64_t key = joint_key(joint, seed);
   Rng rs = Rng::stream(key, "sensor"), rj = Rng::stream(key, "joint"), rd = Rng::stream(key, "decoy"),
       rp = Rng::stream(key, "pose"), rr = Rng::stream(key, "recording");
-  const SensorDraw sd = draw_sensor(rs, options);
+  SensorDraw sd = draw_sensor_for(joint, key, rs, options, p);
   JointSpec spec = draw_joint(joint, rj, sd, p);
+  if (is_groove(joint)) fit_groove_sensor(sd, spec, options);
   DecoySpec decoy = draw_decoy(joint, rd, sd);
   const PoseDraw pose = draw_pose(rp, p);
 
@@ -652,7 +689,7 @@ Profile make_recording_profile(Joint joint, std::uint64_t seed, int count, int i
   const bool opening_coin = rr.chance(0.5);
   const double opening_drawn = rr.uniform(0.2, 1.0);
   const double opening = ro.gap_opening_mm >= 0 ? ro.gap_opening_mm : (opening_coin ? opening_drawn : 0.0);
-  const double gap_max = joint == Joint::Butt ? 3.0 : joint == Joint::Lap ? 1.5 : 2.0;
+  const double gap_max = joint == Joint::Butt || is_groove(joint) ? 3.0 : joint == Joint::Lap ? 1.5 : 2.0;
   // Placement from the widest section of the recording, with its decoy.
   JointSpec widest = spec;
   widest.gap_mm = std::max(spec.gap_mm, std::min(spec.gap_mm + opening, gap_max));
@@ -687,6 +724,42 @@ Profile make_recording_profile(Joint joint, std::uint64_t seed, int count, int i
   out.truth.params.emplace_back("height_drift_mm", drift.height_mm);
   out.truth.params.emplace_back("gap_opening_mm", opening);
   out.truth.tags.push_back("recording");
+  return out;
+}
+
+Profile make_groove_profile(const GrooveShape& g, const Sensor& sensor, double root_standoff_mm) {
+  if (!is_groove(g.joint)) throw std::invalid_argument(std::string("not a groove joint: ") + joint_name(g.joint));
+  const double D = g.thickness_mm - g.root_face_mm, level = g.passes * g.layer_mm;
+  auto bad = [](const std::string& what) { throw std::invalid_argument("groove: " + what); };
+  if (!(g.root_face_mm >= 0 && D > 0 && g.gap_mm >= 0 && g.angle_deg > 0 && g.angle_deg < 90 && g.passes >= 0))
+    bad("needs thickness > root face >= 0, gap >= 0, 0 < angle < 90 degrees, passes >= 0");
+  if ((g.joint == Joint::UGroove || g.joint == Joint::JGroove) && !(g.radius_mm > 0)) bad("a U or J needs a radius");
+  if (g.passes > 0 && !(g.layer_mm > 0)) bad("layer_mm must be positive");
+  if (g.passes > 0 && !(level + std::max(g.crown_mm, 0.0) < D + std::min(g.mismatch_mm, 0.0)))
+    bad("the fill (level " + std::to_string(level) + " mm, crown " + std::to_string(g.crown_mm) +
+        " mm) does not stay below the tops (" + std::to_string(D + std::min(g.mismatch_mm, 0.0)) + " mm above the root)");
+  if (g.passes > 0 && level < std::max(g.mismatch_mm, 0.0)) bad("the fill does not reach the higher root edge");
+  const JointSpec spec{.joint = g.joint, .plate_half_length_mm = 4.0 * root_standoff_mm + 100.0, .gap_mm = g.gap_mm,
+                       .mismatch_mm = g.mismatch_mm, .angle_deg = g.angle_deg, .root_face_mm = g.root_face_mm,
+                       .depth_mm = D, .radius_mm = g.radius_mm, .passes = g.passes, .layer_mm = g.layer_mm,
+                       .crown_mm = g.crown_mm, .ripple_mm = g.ripple_mm};
+  const Section sec = build_section(spec, DecoySpec{});
+  Affine map;
+  map.A << 1.0, 0.0, 0.0, -1.0;
+  map.t = Vec2(0, root_standoff_mm);
+  Scene scene;
+  for (const Polygon& solid : sec.solids) scene.add(transformed(solid, map.A, map.t));
+  Profile out;
+  Truth& t = out.truth;
+  t.joint = g.joint;
+  compute_truth(spec, sec, map, t);
+  t.standoff_mm = t.track_z_mm;
+  t.columns = sensor.columns;
+  const Cast cast = cast_scene(scene, sensor, column_directions(sensor));
+  Rng noise(0);
+  std::vector<std::uint8_t> status;
+  finish_profile(scene, cast, Imperfections{}, noise, out, status);
+  out.debug = make_debug(scene, sensor, cast, status, map.A, map.t);
   return out;
 }
 

@@ -26,11 +26,18 @@ namespace vts_corpus {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-enum class Joint { Fillet, Corner, Lap, Butt, VGroove };
+enum class Joint { Fillet, Corner, Lap, Butt, VGroove, Bevel, UGroove, JGroove, VGrooveThick };
+// The five joints of the score table (kept as they were: scores stay comparable).
 inline constexpr std::array<Joint, 5> kAllJoints = {Joint::Fillet, Joint::Corner, Joint::Lap,
                                                     Joint::Butt, Joint::VGroove};
-const char* joint_name(Joint joint);  // "fillet", "corner", "lap", "butt", "vgroove"
+// The thick-plate and multi-pass grooves of docs/design/grooves.md (issue 18):
+// single bevel, U, J and a V in thick plate (the tracker's v-groove template).
+inline constexpr std::array<Joint, 4> kGrooveJoints = {Joint::Bevel, Joint::UGroove, Joint::JGroove,
+                                                       Joint::VGrooveThick};
+// "fillet", "corner", "lap", "butt", "vgroove", "bevel", "ugroove", "jgroove", "vgroove-thick"
+const char* joint_name(Joint joint);
 std::optional<Joint> joint_from_name(std::string_view name);
+bool is_groove(Joint joint);  // one of kGrooveJoints
 
 // The noise levels of the corpus (sigma of the range along the ray, mm RMS).
 inline constexpr std::array<double, 6> kNoiseLevels_mm = {0.0, 0.005, 0.02, 0.05, 0.1, 0.2};
@@ -67,7 +74,14 @@ struct Truth {
   double track_y_mm = kNaN, track_z_mm = kNaN;
   // NaN where the value does not apply to the joint.
   double gap_mm = kNaN, mismatch_mm = kNaN, angle_deg = kNaN, step_mm = kNaN, depth_mm = kNaN;
-  double area_mm2 = kNaN;  // v-groove: open cross-section B1-B2-B4-B5
+  double area_mm2 = kNaN;  // v-groove: open cross-section B1-B2-B4-B5; grooves: the area left to fill
+  // Grooves (docs/design/grooves.md; NaN / -1 for the other joints): each
+  // wall's straight part against its plate top (a: the first plate in scan
+  // order), the top width B1-B5, the lowest point of the bottom surface (the
+  // last bead's cap, or the root), the number of beads laid.
+  double wall_angle_a_deg = kNaN, wall_angle_b_deg = kNaN, top_width_mm = kNaN;
+  double fill_lowest_y_mm = kNaN, fill_lowest_z_mm = kNaN;
+  int passes = -1;
   // Break points as named in docs/JOINTS.md (those truth can give), sensor frame.
   std::vector<std::pair<std::string, std::array<double, 2>>> break_points;
   std::vector<std::string> tags;                          // variants, imperfections, visibility
@@ -147,5 +161,20 @@ Profile make_recording_profile(Joint joint, std::uint64_t seed, int count, int i
 // noise only (no other imperfections), as make_profile renders.
 std::vector<Vec2> column_directions(const Sensor& sensor);
 Profile render_scene(const Scene& scene, const Sensor& sensor, double noise_mm, std::uint64_t seed);
+
+// A groove of fixed shape (joint frame, docs/design/grooves.md), for tests
+// that work its truth out by hand.
+struct GrooveShape {
+  Joint joint = Joint::VGrooveThick;  // one of kGrooveJoints
+  double thickness_mm = 40, angle_deg = 60, root_face_mm = 0, gap_mm = 0, mismatch_mm = 0;
+  double radius_mm = 5;  // U, J
+  int passes = 0;
+  double layer_mm = 3, crown_mm = 0.5, ripple_mm = 0;
+};
+// The groove straight below the sensor (no roll, pitch, yaw or mirror: sensor
+// y = joint y, sensor z = root_standoff_mm - joint z), rendered without
+// imperfections or noise, with truth and debug. Throws std::invalid_argument
+// when the fill does not stay below the tops.
+Profile make_groove_profile(const GrooveShape& shape, const Sensor& sensor, double root_standoff_mm);
 
 }  // namespace vts_corpus

@@ -19,7 +19,8 @@ const char* face_name(int face) {
       "other",  "rounding", "flange_top", "web_open",    "web_bottom", "outer1",   "outer2",
       "end1",   "end2",     "lower_top",  "upper_top",   "upper_edge", "upper_bottom",
       "top1",   "top2",     "edge1",      "edge2",       "bevel1",     "bevel2",   "root1",
-      "root2",  "backing",  "tack",       "decoy",       "body"};
+      "root2",  "backing",  "tack",       "decoy",       "body",       "arc1",     "arc2",
+      "cap"};
   return (face >= 0 && face < kFaceCount) ? names[face] : "?";
 }
 

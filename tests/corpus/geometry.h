@@ -60,7 +60,7 @@ enum Face : int {
   kFaceTop2,
   kFaceEdge1,         // butt: edge faces (gap walls)
   kFaceEdge2,
-  kFaceBevel1,        // v-groove
+  kFaceBevel1,        // v-groove; grooves: each wall's straight part (square or bevelled)
   kFaceBevel2,
   kFaceRoot1,         // v-groove: root faces
   kFaceRoot2,
@@ -68,6 +68,9 @@ enum Face : int {
   kFaceTack,          // tack-weld bump
   kFaceDecoy,         // the decoy feature's faces
   kFaceBody,          // torch or clamp
+  kFaceArc1,          // U, J groove: the wall's arc at the root (1 = side a)
+  kFaceArc2,
+  kFaceCap,           // groove: the last bead's surface
   kFaceCount
 };
 const char* face_name(int face);

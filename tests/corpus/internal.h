@@ -7,6 +7,7 @@
 
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,8 +35,11 @@ struct SensorDraw {
   double triangulation_deg = 25;
   double baseline_mm = 50;
   int camera_side = 1;
+  // Grooves: a thick plate (20-80 mm), drawn before the sensor because a
+  // thick plate is seen from farther (standoff 100-400 mm instead of 50-250).
+  bool thick = false;
 };
-SensorDraw draw_sensor(Rng& rng, const Options& options);
+SensorDraw draw_sensor(Rng& rng, const Options& options, double standoff_lo_mm = 50, double standoff_hi_mm = 250);
 
 struct EdgeStyle {
   CornerKind kind = CornerKind::Sharp;
@@ -49,7 +53,7 @@ struct JointSpec {
   double plate_half_length_mm = 500;
   double gap_mm = 0;
   double mismatch_mm = 0;  // signed: + raises plate 2 (+y)
-  EdgeStyle edge;
+  EdgeStyle edge{};
   bool tack = false;
   double tack_a_mm = 0, tack_b_mm = 0, tack_c = 0;  // joint-specific tack shape draws
   bool backing = false;
@@ -59,9 +63,14 @@ struct JointSpec {
   double web_height_mm = 50;     // fillet
   double tilt_deg = 0;           // lap: upper plate lifted away from its edge
   double root_face_mm = 0;       // v-groove
-  double depth_mm = 0;           // v-groove: plate top to root edge (thickness - root face)
-  std::vector<std::string> tags;
-  std::vector<std::pair<std::string, double>> params;
+  double depth_mm = 0;           // v-groove, grooves: plate top to root edge (thickness - root face)
+  // Grooves (docs/design/grooves.md): angle_deg is the included angle.
+  double radius_mm = 0;          // U, J: the arc at the root
+  int passes = 0;                // beads laid
+  double layer_mm = 3, crown_mm = 0.5;
+  double ripple_mm = 0, ripple_wavelength_mm = 3, ripple_phase = 0;  // bead ripples on the cap
+  std::vector<std::string> tags{};
+  std::vector<std::pair<std::string, double>> params{};
 };
 JointSpec draw_joint(Joint joint, Rng& rng, const SensorDraw& sensor, const Probabilities& p);
 
@@ -80,6 +89,9 @@ struct Section {
   Vec2 track{0, 0};
   double halfwidth_mm = 5;  // lateral extent of what the tracker needs, from the track point
   double max_roll_deg = 15;  // the roll keeps the plates at least 20 degrees off the rays
+  // Grooves: how far the plate tops lie above the track point (the field of
+  // view at the tops, narrower than at the track point, must hold the groove).
+  double top_height_mm = 0;
   // Fillet: the open angle the camera must look into (NaN: no constraint).
   double open_angle_deg = std::numeric_limits<double>::quiet_NaN();
   std::map<std::string, Vec2> pts;   // named truth points
@@ -101,6 +113,17 @@ struct Affine {
 // Fills the truth values and break points of `truth` from the section mapped
 // into the sensor frame.
 void compute_truth(const JointSpec& spec, const Section& section, const Affine& map, Truth& truth);
+
+// The groove joints (grooves.cpp): parameters, cross-section, truth, and the
+// sensor fitted to the groove (standoff raised, then the fan widened, until
+// the groove and 10 mm of each plate top fit the field and the measuring range).
+JointSpec draw_groove(Joint joint, Rng& rng, const SensorDraw& sensor, const Probabilities& p);
+Section build_groove_section(const JointSpec& spec, const DecoySpec& decoy);
+void compute_groove_truth(const JointSpec& spec, const Section& section, const Affine& map, Truth& truth);
+void fit_groove_sensor(SensorDraw& sensor, JointSpec& spec, const Options& options);
+// A small V notch in plate 1's top (z = top_z) beyond its top edge at y = edge_y:
+// the v-groove decoy. Appends its corners and sets the section's decoy point.
+void add_notch_decoy(std::vector<Corner>& plate1, double edge_y, double top_z, const DecoySpec& decoy, Section& sec);
 
 // Ideal casting of every column (no imperfections).
 struct Cast {
@@ -133,5 +156,10 @@ struct Imperfections {
 // Applies the imperfections and noise to the cast; fills y, z, valid.
 void finish_profile(const Scene& scene, const Cast& cast, const Imperfections& imp, Rng& noise_rng,
                     Profile& out, std::vector<std::uint8_t>& status);
+
+// The debug record of a cast profile (Options::keep_debug, render_scene).
+std::shared_ptr<Debug> make_debug(const Scene& scene, const Sensor& sensor, const Cast& cast,
+                                  const std::vector<std::uint8_t>& status, const Mat2& A = Mat2::Identity(),
+                                  const Vec2& t = Vec2(0, 0));
 
 }  // namespace vts_corpus::detail

@@ -81,7 +81,18 @@ int circle_segments(double r_mm) { return std::clamp(static_cast<int>(std::ceil(
 
 }  // namespace
 
+void add_notch_decoy(std::vector<Corner>& p1, double edge_y, double top_z, const DecoySpec& decoy, Section& sec) {
+  const double dn = 1.0 + decoy.a_mm, wn = dn * dm::tan(rad(30 + 15 * decoy.b_mm));
+  const double d = std::max(decoy.distance_mm, -edge_y + wn + 3.0);
+  p1.push_back(C(-d + wn, top_z, kFaceDecoy));
+  p1.push_back(C(-d, top_z - dn, kFaceDecoy));
+  p1.push_back(C(-d - wn, top_z, kFaceTop1));
+  sec.has_decoy = true;
+  sec.decoy_point = Vec2(-d, top_z - dn);
+}
+
 JointSpec draw_joint(Joint joint, Rng& rng, const SensorDraw& sd, const Probabilities& p) {
+  if (is_groove(joint)) return draw_groove(joint, rng, sd, p);
   JointSpec s;
   s.joint = joint;
   const double D = sd.standoff_mm;
@@ -192,6 +203,10 @@ JointSpec draw_joint(Joint joint, Rng& rng, const SensorDraw& sd, const Probabil
       param(s, "thickness_mm", s.depth_mm + s.root_face_mm);
       break;
     }
+    case Joint::Bevel:
+    case Joint::UGroove:
+    case Joint::JGroove:
+    case Joint::VGrooveThick: break;  // draw_groove
   }
   if (s.backing) s.tags.push_back("backing_bar");
   if (s.tack) s.tags.push_back("tack_weld");
@@ -211,6 +226,7 @@ DecoySpec draw_decoy(Joint, Rng& rng, const SensorDraw&) {
 }
 
 Section build_section(const JointSpec& s, const DecoySpec& decoy) {
+  if (is_groove(s.joint)) return build_groove_section(s, decoy);
   Section sec;
   const double L = s.plate_half_length_mm;
   const double g = s.gap_mm;
@@ -385,15 +401,7 @@ Section build_section(const JointSpec& s, const DecoySpec& decoy) {
       const Vec2 T1(-g / 2 - D * th, D), T2(g / 2 + D * th, m + D);
       std::vector<Corner> p1 = {C(-L, -rf, kFaceOther), C(-g / 2, -rf, kFaceRoot1), C(R1, kFaceBevel1),
                                 C(T1, kFaceTop1, s.edge)};
-      if (decoy.on) {  // a small V notch in plate 1's top
-        const double dn = 1.0 + decoy.a_mm, wn = dn * dm::tan(rad(30 + 15 * decoy.b_mm));
-        const double d = std::max(decoy.distance_mm, -T1.x() + wn + 3.0);
-        p1.push_back(C(-d + wn, D, kFaceDecoy));
-        p1.push_back(C(-d, D - dn, kFaceDecoy));
-        p1.push_back(C(-d - wn, D, kFaceTop1));
-        sec.has_decoy = true;
-        sec.decoy_point = Vec2(-d, D - dn);
-      }
+      if (decoy.on) add_notch_decoy(p1, T1.x(), D, decoy, sec);
       p1.push_back(C(-L, D, kFaceOther));
       sec.solids.push_back(make_polygon(p1));
       sec.solids.push_back(make_polygon({C(T2, kFaceBevel2, s.edge), C(R2, kFaceRoot2), C(g / 2, m - rf, kFaceOther),
@@ -422,11 +430,16 @@ Section build_section(const JointSpec& s, const DecoySpec& decoy) {
       sec.defining = {"root1", "root2"};
       break;
     }
+    case Joint::Bevel:
+    case Joint::UGroove:
+    case Joint::JGroove:
+    case Joint::VGrooveThick: break;  // build_groove_section
   }
   return sec;
 }
 
 void compute_truth(const JointSpec& s, const Section& sec, const Affine& map, Truth& t) {
+  if (is_groove(s.joint)) return compute_groove_truth(s, sec, map, t);
   auto P = [&](const char* name) { return map(sec.pts.at(name)); };
   auto Dir = [&](const char* name) { return map.dir(sec.dirs.at(name)); };
   auto bp = [&](const char* name, const Vec2& p) { t.break_points.push_back({name, {p.x(), p.y()}}); };
@@ -514,6 +527,10 @@ void compute_truth(const JointSpec& s, const Section& sec, const Affine& map, Tr
       bp("B5", t2);
       break;
     }
+    case Joint::Bevel:
+    case Joint::UGroove:
+    case Joint::JGroove:
+    case Joint::VGrooveThick: break;  // compute_groove_truth
   }
 }
 

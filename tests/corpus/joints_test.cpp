@@ -178,6 +178,7 @@ TEST_CASE("joints: truth points lie on the lines that define them", "[corpus][jo
           CHECK(t.area_mm2 > 0);
           break;
         }
+        default: FAIL("not one of kAllJoints");  // the grooves: grooves_test.cpp
       }
     }
   }

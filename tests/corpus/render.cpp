@@ -160,6 +160,22 @@ void finish_profile(const Scene& scene, const Cast& cast, const Imperfections& i
   }
 }
 
+std::shared_ptr<Debug> make_debug(const Scene& scene, const Sensor& sensor, const Cast& cast,
+                                  const std::vector<std::uint8_t>& status, const Mat2& A, const Vec2& t) {
+  auto debug = std::make_shared<Debug>();
+  debug->scene = scene;
+  debug->sensor = sensor;
+  debug->ray_dir = cast.dir;
+  debug->ideal_range_mm = cast.range_mm;
+  debug->hit_face.resize(cast.edge.size());
+  for (std::size_t i = 0; i < cast.edge.size(); ++i)
+    debug->hit_face[i] = cast.edge[i] < 0 ? -1 : scene.edges[cast.edge[i]].face;
+  debug->status = status;
+  debug->joint_to_sensor_A = A;
+  debug->joint_to_sensor_t = t;
+  return debug;
+}
+
 }  // namespace detail
 
 Profile render_scene(const Scene& scene, const Sensor& sensor, double noise_mm, std::uint64_t seed) {
@@ -173,16 +189,7 @@ Profile render_scene(const Scene& scene, const Sensor& sensor, double noise_mm, 
   out.truth.noise_mm = noise_mm;
   out.truth.columns = sensor.columns;
   out.truth.seed = seed;
-  auto debug = std::make_shared<Debug>();
-  debug->scene = scene;
-  debug->sensor = sensor;
-  debug->ray_dir = cast.dir;
-  debug->ideal_range_mm = cast.range_mm;
-  debug->hit_face.resize(cast.edge.size());
-  for (std::size_t i = 0; i < cast.edge.size(); ++i)
-    debug->hit_face[i] = cast.edge[i] < 0 ? -1 : scene.edges[cast.edge[i]].face;
-  debug->status = status;
-  out.debug = debug;
+  out.debug = detail::make_debug(scene, sensor, cast, status);
   return out;
 }
 

@@ -29,7 +29,9 @@ Writes profiles of the independent test corpus (tests/corpus/README.md):
 the profiles as CSV in the format `vts track` reads (profile,y,z,valid) and
 their ground truth as JSON Lines, one object per profile.
 
-  --joint TYPE        fillet, corner, lap, butt or vgroove (required)
+  --joint TYPE        fillet, corner, lap, butt, vgroove, or a groove of
+                      docs/design/grooves.md: bevel, ugroove, jgroove,
+                      vgroove-thick (required)
   --count N           number of profiles (default 1)
   --seed S            unsigned 64-bit seed (default 1); profile k of a set is
                       make_profile(joint, S + k); a recording uses S for all
@@ -40,7 +42,8 @@ their ground truth as JSON Lines, one object per profile.
   --decoy-every K     recording: a decoy on every K-th profile
   --ds MM             recording: travel per profile (default: drawn 0.1..1)
   --columns N         columns per profile, 16..4096 (default: drawn 256..2048)
-  --standoff MM       root distance along the optical axis (default: drawn 50..250)
+  --standoff MM       root distance along the optical axis (default: drawn 50..250;
+                      thick-plate grooves 100..400, raised to fit the groove)
   --ideal             no imperfections (noise still as --noise)
   --camera-out-of-plane  camera along the travel direction instead of in the laser plane
   --prob NAME=P       override a variant's probability (repeatable), e.g.
@@ -88,6 +91,12 @@ nlohmann::ordered_json truth_json(int profile, const vc::Truth& t, bool ideal) {
   j["step_mm"] = num(t.step_mm);
   j["depth_mm"] = num(t.depth_mm);
   j["area_mm2"] = num(t.area_mm2);
+  // Grooves (docs/design/grooves.md); null for the other joints.
+  j["wall_angle_a_deg"] = num(t.wall_angle_a_deg);
+  j["wall_angle_b_deg"] = num(t.wall_angle_b_deg);
+  j["top_width_mm"] = num(t.top_width_mm);
+  j["fill_lowest"] = point(t.fill_lowest_y_mm, t.fill_lowest_z_mm);
+  j["passes"] = t.passes >= 0 ? nlohmann::ordered_json(t.passes) : nlohmann::ordered_json(nullptr);
   nlohmann::ordered_json bps = nlohmann::ordered_json::object();
   for (const auto& [name, p] : t.break_points) bps[name] = point(p[0], p[1]);
   j["break_points"] = bps;
@@ -201,7 +210,9 @@ int run(int argc, char** argv) {
     } else if (a == "--joint") {
       const std::string& v = value();
       joint = vc::joint_from_name(v);
-      if (!joint) throw BadArgument("--joint: unknown joint '" + v + "': expected fillet, corner, lap, butt or vgroove");
+      if (!joint)
+        throw BadArgument("--joint: unknown joint '" + v +
+                          "': expected fillet, corner, lap, butt, vgroove, bevel, ugroove, jgroove or vgroove-thick");
     } else if (a == "--count") {
       count = parse_number<int>(a, value());
       if (count < 1 || count > 10'000'000) throw BadArgument("--count: " + std::to_string(count) + " outside 1..10000000");

@@ -11,6 +11,10 @@ tk::JointType joint_of(vc::Joint j) {
     case vc::Joint::Lap: return tk::JointType::Lap;
     case vc::Joint::Butt: return tk::JointType::Butt;
     case vc::Joint::VGroove: return tk::JointType::VGroove;
+    case vc::Joint::Bevel: return tk::JointType::Bevel;
+    case vc::Joint::UGroove: return tk::JointType::UGroove;
+    case vc::Joint::JGroove: return tk::JointType::JGroove;
+    case vc::Joint::VGrooveThick: return tk::JointType::VGroove;  // the v-groove template in thick plate
   }
   return tk::JointType::Fillet;
 }
