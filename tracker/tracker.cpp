@@ -1588,6 +1588,21 @@ class Matcher {
     // The bottom's points: between the walls' feet (or the tops' ends where
     // a wall is hidden).
     const int bot_first = wa ? wa->last + 1 : a.last + 1, bot_last = wb ? wb->first - 1 : b.first - 1;
+    // The bottom must be seen: a few points of it, or the walls' seen ends
+    // within a notch of each other (a closed or narrow root). A wall that
+    // leaves the camera's view or the laser's reach partway down says
+    // nothing about what lies below it.
+    {
+      const Vec2 end_a = wa ? pt(wa->last) : pt(a.last), end_b = wb ? pt(wb->first) : pt(b.first);
+      if (bot_last - bot_first + 1 < 3 && (end_b - end_a).norm() > gp.max_notch_mm) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the groove's bottom is not seen (%d points between the walls' ends, %.3g mm apart)",
+                      std::max(0, bot_last - bot_first + 1), (end_b - end_a).norm());
+        c.track = a.line.project(0.5 * (end_a + end_b));
+        offer(c);
+        return;
+      }
+    }
     // A toe: where the wall meets the bottom: the wall's line and the line of
     // the bottom's first few points, if they cross near the wall's last point;
     // else that point on the wall's line.
@@ -1610,11 +1625,24 @@ class Matcher {
       const auto x = intersect(wall, f->line, 0.2);
       return x && (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
     };
-    const Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1)
+    Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1)
                        : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1) : la.project(pt(b.first)));
-    const Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1)
+    Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1)
                        : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1) : lb.project(pt(a.last)));
     if ((b4 - b2).dot(along) < -tol_) return;
+    // A bevel's square wall runs on straight down as its root face: seen with
+    // nothing between the walls' feet but a gap (no bottom of its own), its
+    // toe is the root edge at the other toe's level.
+    if (joint == JointType::Bevel && (square_a ? wa : wb)) {
+      Vec2& sq = square_a ? b2 : b4;
+      const Vec2& other = square_a ? b4 : b2;
+      const double deeper = (sq - other).dot(down);
+      bool bottomless = true;
+      for (int i = bot_first; i <= bot_last && bottomless; ++i) bottomless = (pt(i) - other).dot(down) > tol_;
+      Vec2 dn = (square_a ? la : lb).direction();  // down the square wall
+      if (dn.dot(down) < 0.0) dn = -dn;
+      if (deeper > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
+    }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
     Line top;

@@ -48,6 +48,7 @@ ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level) {
   ReadOne one{vc::make_profile(joint, seed, options_for(level, false)), {}, {}};
   tk::TrackerParams params;
   params.joint = joint_of(joint);
+  params.groove.vgroove_fill = joint == vc::Joint::VGrooveThick;
   tk::Tracker tracker(params);
   tracker.track(tk::ProfileView{one.profile.y, one.profile.z, one.profile.valid}, one.result);
   tk::Truth t = truth_of(one.profile.truth);
@@ -63,6 +64,8 @@ tk::ScoreTable run(const RunOptions& o, const tk::TrackerParams& base,
   for (const vc::Joint j : o.joints) {
     tk::TrackerParams params = base;
     params.joint = joint_of(j);
+    // Thick v-grooves have beads laid in them: the user says so (--fill).
+    params.groove.vgroove_fill = params.groove.vgroove_fill || j == vc::Joint::VGrooveThick;
     tk::Tracker tracker(params);
     for (const double level : o.levels) {
       const vc::Options opt = options_for(level, o.camera_in_laser_plane);

@@ -22,6 +22,7 @@ int dump(vts_corpus::Joint joint, std::uint64_t seed, double level, const std::s
   const vc::Profile p = vc::make_profile(joint, seed, options_for(level, camera_in_plane));
   tk::TrackerParams params;
   params.joint = joint_of(joint);
+  params.groove.vgroove_fill = joint == vc::Joint::VGrooveThick;
   tk::Tracker tracker(params);
   const tk::TrackResult& r = tracker.track(tk::ProfileView{p.y, p.z, p.valid});
   FILE* f = std::fopen((prefix + ".csv").c_str(), "w");
