@@ -1630,18 +1630,22 @@ class Matcher {
     Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1)
                        : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1) : lb.project(pt(a.last)));
     if ((b4 - b2).dot(along) < -tol_) return;
-    // A bevel's square wall runs on straight down as its root face: seen with
-    // nothing between the walls' feet but a gap (no bottom of its own), its
-    // toe is the root edge at the other toe's level.
-    if (joint == JointType::Bevel && (square_a ? wa : wb)) {
+    // A bevel's square wall runs on straight down as its root face, and a
+    // square wall seen edge-on is seen only partway down or not at all (its
+    // points, too few for a wall, are then the bottom's): with nothing
+    // between the walls' feet but a gap (no bottom of its own), its toe is
+    // the root edge at the other toe's level, above or below its last point.
+    if (joint == JointType::Bevel) {
       Vec2& sq = square_a ? b2 : b4;
       const Vec2& other = square_a ? b4 : b2;
       const double deeper = (sq - other).dot(down);
       bool bottomless = true;
-      for (int i = bot_first; i <= bot_last && bottomless; ++i) bottomless = (pt(i) - other).dot(down) > tol_;
-      Vec2 dn = (square_a ? la : lb).direction();  // down the square wall
+      const Line& sq_line = square_a ? la : lb;
+      for (int i = bot_first; i <= bot_last && bottomless; ++i)
+        bottomless = (pt(i) - other).dot(down) > tol_ || sq_line.distance(pt(i)) <= tol_;
+      Vec2 dn = sq_line.direction();  // down the square wall
       if (dn.dot(down) < 0.0) dn = -dn;
-      if (deeper > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
+      if (std::abs(deeper) > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
     }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
