@@ -42,6 +42,30 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   }
 }
 
+TEST_CASE("corpus: the groove model's scores do not get worse", "[tracker][corpus][groove]") {
+  // Issue 18's grooves in the corpus (tests/corpus/grooves.cpp: bevel, U, J
+  // and v-grooves in thick plate, most with beads laid), held-out seeds, 100
+  // profiles per level (the corpus' thick parts are slow to cast). The
+  // thick v-groove is read with --fill; its rows are the v-groove's.
+  RunOptions o;
+  o.first_seed = 1000001;
+  o.profiles = 100;
+  const std::pair<vc::Joint, Limit> limits[] = {
+      {vc::Joint::Bevel, {70, 0.63}},
+      {vc::Joint::UGroove, {14, 0.44}},
+      {vc::Joint::JGroove, {42, 0.59}},
+      {vc::Joint::VGrooveThick, {31, 0.71}},
+  };
+  for (const auto& [joint, limit] : limits) {
+    o.joints = {joint};
+    const tk::Tally t = run(o).total(joint_of(joint));
+    INFO(vc::joint_name(joint) << ": " << t.false_reads << " false reads, " << t.right << " right of " << t.visible());
+    REQUIRE(t.profiles == 700);
+    CHECK(t.false_reads <= limit.max_false);
+    CHECK(static_cast<double>(t.right) / t.visible() >= limit.min_right);
+  }
+}
+
 TEST_CASE("corpus: fillets up to 0.1 mm noise: 2 false reads in 6,000", "[tracker][corpus]") {
   // Both are one profile (seed 2000922 at 0.05 and 0.1 mm): a tack weld in
   // the root, most of the profile out of range, the tack's 9 points read as
