@@ -14,6 +14,7 @@
 #include <string>
 
 #include "apps/cli.h"
+#include "pipeline/groove_passes.h"
 #include "pipeline/sim_run.h"
 #include "sensor/presets.h"
 
@@ -26,6 +27,7 @@ using Json = trackio::Json;
 
 struct SimOptions {
   std::string speed, rate, seed, offset, rotation, source, sensor, material, out_dir, replay, threads;
+  std::string cell, scene, passes, first_pass, profiles;  // a multi-pass groove instead of the box
   bool ideal = false;
   bool json = false;
 };
@@ -90,7 +92,42 @@ SimPlan plan_sim(const SimOptions& o) {
   return plan;
 }
 
+// A multi-pass weld of a groove cell (issue 18; docs/SIM.md "Multi-pass"):
+// the summary on stdout, nothing written.
+int run_passes(const SimOptions& o) {
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
+                               {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
+                               {"--replay", &o.replay}, {"--out-dir", &o.out_dir}})
+    if (!v->empty()) bad(opt, *v, "only for the box experiment, not with --cell or --scene");
+  GroovePassSpec spec;
+  spec.cell = cli::load_cell(o.cell, o.scene).cell;
+  ScannerDesc& sc = spec.cell.scanner;
+  if (!o.sensor.empty()) {
+    const auto preset = sensor_preset(o.sensor);
+    if (!preset) bad("--sensor", o.sensor, "unknown sensor; valid names: " + join_names(sensor_preset_names()));
+    set_sensor_fields(sc, *preset);
+  }
+  if (!o.material.empty() && !apply_material(sc, o.material))
+    bad("--material", o.material, "unknown material; valid names: " + join_names(material_names()));
+  sc.ideal = o.ideal;
+  spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
+  spec.seed = o.seed.empty() ? 1 : cli::parse_seed("--seed", o.seed);
+  if (!o.passes.empty()) spec.last_pass = static_cast<int>(parse_number("--passes", o.passes, 0.0, 1000.0, "beads"));
+  if (!o.first_pass.empty())
+    spec.first_pass = static_cast<int>(parse_number("--first-pass", o.first_pass, 0.0, 1000.0, "beads"));
+  if (!o.profiles.empty()) spec.profiles = static_cast<int>(parse_number("--profiles", o.profiles, 1.0, 100000.0, "profiles"));
+  if (const std::string why = validate(spec); !why.empty()) throw cli::UsageError(why);
+  cli::apply_thread_limit(o.threads);
+  const GroovePassRun run = run_groove_passes(spec);
+  if (o.json) std::cout << groove_passes_json(run).dump() << "\n";
+  else std::cout << groove_passes_markdown(run) << "\n";
+  bool all = true;
+  for (const GroovePass& p : run.passes) all = all && p.ok > 0;
+  return all ? cli::kExitOk : cli::kExitRuntime;
+}
+
 int run_sim(const SimOptions& o) {
+  if (!o.cell.empty() || !o.scene.empty()) return run_passes(o);
   const SimPlan plan = plan_sim(o);  // throws UsageError; nothing created yet
   const SimSpec& spec = plan.spec;
   const auto wall0 = std::chrono::steady_clock::now();
@@ -197,6 +234,18 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
       ->type_name("FILE.exr");
   cmd->add_option("--threads", o->threads, cli::kThreadsHelp)->type_name("N");
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
+  cmd->add_option("--cell", o->cell,
+                  "Instead of the box: a multi-pass weld of a groove cell (vgroove-thick, bevel-thick, "
+                  "ugroove-fill, ...): beads laid pass after pass, the sensor asked between them; prints per pass "
+                  "the measured and true depth and area left and the next bead's place (docs/SIM.md)")
+      ->type_name("NAME");
+  cmd->add_option("--scene", o->scene, "As --cell, from a scene file with one groove workpiece")->type_name("FILE");
+  cmd->add_option("--passes", o->passes, "With --cell: beads laid before the last scan (default: the cell's)")
+      ->type_name("N");
+  cmd->add_option("--first-pass", o->first_pass, "With --cell: beads laid before the first scan (default 0)")
+      ->type_name("N");
+  cmd->add_option("--profiles", o->profiles, "With --cell: profiles per pass along the cell's path (default 10)")
+      ->type_name("N");
   cmd->callback([o, &exit_code] {
     try {
       exit_code = run_sim(*o);

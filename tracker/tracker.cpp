@@ -1593,11 +1593,13 @@ class Matcher {
     // leaves the camera's view or the laser's reach partway down says
     // nothing about what lies below it.
     {
+      // A hidden wall's end is anywhere on its line: the other's end to it.
       const Vec2 end_a = wa ? pt(wa->last) : pt(a.last), end_b = wb ? pt(wb->first) : pt(b.first);
-      if (bot_last - bot_first + 1 < 3 && (end_b - end_a).norm() > gp.max_notch_mm) {
+      const double apart = !wa ? la.distance(end_b) : !wb ? lb.distance(end_a) : (end_b - end_a).norm();
+      if (bot_last - bot_first + 1 < 3 && apart > gp.max_notch_mm) {
         std::snprintf(c.reason, sizeof c.reason,
                       "the groove's bottom is not seen (%d points between the walls' ends, %.3g mm apart)",
-                      std::max(0, bot_last - bot_first + 1), (end_b - end_a).norm());
+                      std::max(0, bot_last - bot_first + 1), apart);
         c.track = a.line.project(0.5 * (end_a + end_b));
         offer(c);
         return;
@@ -1674,16 +1676,19 @@ class Matcher {
       }
     }
     // The lowest point of the bottom (each inner point smoothed over its
-    // neighbours within 0.5 mm along: noise would pick its deepest sample).
+    // neighbours within 10 noise sigmas along, at most 0.5 mm: noise would
+    // pick its deepest sample; more would round off a cap's corner at a
+    // wall).
     std::size_t low = 0;
     double low_v = -std::numeric_limits<double>::infinity();
+    const double smooth = std::min(0.5, 10.0 * sigma_);
     for (std::size_t k = 0; k < poly.size(); ++k) {
       double v = depth_below(top, poly[k]);
       if (k > 0 && k + 1 < poly.size()) {
         double sum = 0.0;
         int n = 0;
         for (std::size_t m = 1; m + 1 < poly.size(); ++m)
-          if (std::abs((poly[m] - poly[k]).dot(along)) <= 0.5) sum += depth_below(top, poly[m]), ++n;
+          if (std::abs((poly[m] - poly[k]).dot(along)) <= smooth) sum += depth_below(top, poly[m]), ++n;
         v = sum / n;
       }
       if (v > low_v + 1e-9) low_v = v, low = k;

@@ -1,0 +1,161 @@
+#include "pipeline/groove_passes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "pipeline/scan_job.h"
+#include "pipeline/sinks.h"
+#include "tracker/tracker.h"
+
+namespace vts {
+namespace {
+
+namespace tk = vts::tracker;
+
+double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A joint-frame point (y, z) in the laser plane of `pose`, sensor frame.
+Vec2 to_sensor(const Workpiece& w, const Pose& pose, const Vec2& yz) {
+  const Pose sensor_from_joint = pose.inverse() * w.world_from_joint;
+  const double x0 = (w.world_from_joint.inverse() * pose).translation().x();
+  const Vec3 s = sensor_from_joint * Vec3(x0, yz.x(), yz.y());
+  return Vec2(s.y(), s.z());
+}
+
+std::string fmt(double v, int decimals) {
+  if (!std::isfinite(v)) return "n/a";
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*f", decimals, std::abs(v) < 0.5 * std::pow(10.0, -decimals) ? 0.0 : v);
+  return b;
+}
+
+}  // namespace
+
+std::string validate(const GroovePassSpec& spec) {
+  if (spec.cell.workpieces.size() != 1) return "the cell must hold one groove workpiece";
+  const Workpiece& w = spec.cell.workpieces.front();
+  if (w.is_mesh() || !is_groove(w.type))
+    return "cell '" + spec.cell.name + "': " + std::string(to_string(w.type)) +
+           " is no groove (vgroove, bevel, ugroove or jgroove)";
+  if (spec.profiles < 1 || spec.profiles > 100000) return "profiles = " + std::to_string(spec.profiles) + ": must be 1..100000";
+  const int last = spec.last_pass < 0 ? w.params.passes : spec.last_pass;
+  if (spec.first_pass < 0 || spec.first_pass > last)
+    return "passes " + std::to_string(spec.first_pass) + ".." + std::to_string(last) + ": must be 0 <= first <= last";
+  JointParams p = w.params;
+  p.passes = last;
+  if (const std::string e = vts::validate(w.type, p); !e.empty()) return "passes = " + std::to_string(last) + ": " + e;
+  return {};
+}
+
+GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
+  if (const std::string e = validate(spec); !e.empty()) throw std::invalid_argument(e);
+  const Workpiece& base = spec.cell.workpieces.front();
+  const int last = spec.last_pass < 0 ? base.params.passes : spec.last_pass;
+  GroovePassRun run;
+  run.cell = spec.cell.name;
+  run.conditions = std::string(spec.source == SourceKind::Raster ? "raster emulator" : "Embree reference") + ", " +
+                   (spec.cell.scanner.ideal ? "ideal profiles" : "error model on, seed " + std::to_string(spec.seed)) +
+                   ", " + spec.cell.scanner.name + ", " + std::to_string(spec.profiles) + " profiles per pass";
+  tk::TrackerParams params;
+  params.joint = *tracker_joint(base.type);
+  params.groove.vgroove_fill = true;  // beads are laid: the v-groove's bottom is its fill
+  for (int laid = spec.first_pass; laid <= last; ++laid) {
+    ScanSpec scan;
+    scan.cell = spec.cell;
+    JointParams p = base.params;
+    p.passes = laid;
+    scan.cell.workpieces.front() = build_workpiece(base.type, p, base.world_from_joint);
+    scan.cell.path.profiles = spec.profiles;
+    scan.source = spec.source;
+    scan.seed = spec.seed + static_cast<std::uint64_t>(laid);
+    const Workpiece& w = scan.cell.workpieces.front();
+    const JointTruth& t = w.truth;
+    GroovePass pass;
+    pass.laid = laid;
+    pass.profiles = spec.profiles;
+    pass.depth_true = t.depth_mm, pass.area_true = t.area_mm2, pass.width_true = t.top_width_mm;
+    // The tracker's walls are in scan order: which of the joint's is first?
+    const bool a_first = to_sensor(w, scan.cell.path.pose_at(0), t.top_a_yz).x() <=
+                         to_sensor(w, scan.cell.path.pose_at(0), t.top_b_yz).x();
+    pass.wall_a_true = a_first ? t.wall_angle_a_deg : t.wall_angle_b_deg;
+    pass.wall_b_true = a_first ? t.wall_angle_b_deg : t.wall_angle_a_deg;
+    std::vector<double> depth, area, width, wa, wb, dy, dz;
+    tk::Tracker tracker(params);
+    tk::TrackResult r;
+    CallbackSink sink([&](const ScanBatch& batch) {
+      for (const Profile& prof : batch.profiles) {
+        tracker.track(tk::ProfileView{prof.y_mm, prof.z_mm, prof.valid}, r);
+        if (r.status != tk::TrackStatus::Ok || !r.track_point) {
+          if (pass.first_reason.empty())
+            pass.first_reason = "profile " + std::to_string(prof.index) + ": " + std::string(tk::to_string(r.status)) +
+                                ": " + r.reason;
+          continue;
+        }
+        ++pass.ok;
+        depth.push_back(r.depth_mm), area.push_back(r.area_mm2), width.push_back(r.top_width_mm);
+        wa.push_back(r.wall_angle_a_deg), wb.push_back(r.wall_angle_b_deg);
+        const Vec2 b3 = to_sensor(w, scan.cell.path.pose_at(prof.index), t.track_yz);
+        dy.push_back(r.track_point->x() - b3.x()), dz.push_back(r.track_point->y() - b3.y());
+      }
+    });
+    run_scan_job(scan, sink);
+    pass.depth = median(depth), pass.area = median(area), pass.width = median(width);
+    pass.wall_a = median(wa), pass.wall_b = median(wb);
+    pass.next_dy = median(dy), pass.next_dz = median(dz);
+    run.passes.push_back(pass);
+  }
+  return run;
+}
+
+std::string groove_passes_markdown(const GroovePassRun& run) {
+  std::ostringstream o;
+  o << "Multi-pass: " << run.cell << ", " << run.conditions
+    << ". Medians over the accepted profiles; true values from the cell's analytic truth.\n\n"
+    << "| beads laid | accepted | depth left (mm) | true | area left (mm2) | true | top width (mm) | true | walls (deg) "
+       "| true | next bead: error across / in depth (mm) |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const GroovePass& p : run.passes) {
+    o << "| " << p.laid << " | " << p.ok << "/" << p.profiles << " | " << fmt(p.depth, 3) << " | "
+      << fmt(p.depth_true, 3) << " | " << fmt(p.area, 1) << " | " << fmt(p.area_true, 1) << " | " << fmt(p.width, 3)
+      << " | " << fmt(p.width_true, 3) << " | " << fmt(p.wall_a, 2) << ", " << fmt(p.wall_b, 2) << " | "
+      << fmt(p.wall_a_true, 2) << ", " << fmt(p.wall_b_true, 2) << " | " << fmt(p.next_dy, 3) << " / "
+      << fmt(p.next_dz, 3) << " |\n";
+  }
+  for (const GroovePass& p : run.passes)
+    if (p.ok < p.profiles) o << "\nafter " << p.laid << " beads, " << p.first_reason;
+  return o.str();
+}
+
+trackio::Json groove_passes_json(const GroovePassRun& run) {
+  auto num = [](double v) { return std::isfinite(v) ? trackio::Json(std::round(v * 1e6) / 1e6) : trackio::Json(); };
+  trackio::Json passes = trackio::Json::array();
+  for (const GroovePass& p : run.passes)
+    passes.push_back(trackio::Json{{"laid", p.laid},
+                                   {"profiles", p.profiles},
+                                   {"accepted", p.ok},
+                                   {"depth_mm", num(p.depth)},
+                                   {"depth_true_mm", num(p.depth_true)},
+                                   {"area_mm2", num(p.area)},
+                                   {"area_true_mm2", num(p.area_true)},
+                                   {"top_width_mm", num(p.width)},
+                                   {"top_width_true_mm", num(p.width_true)},
+                                   {"wall_angle_a_deg", num(p.wall_a)},
+                                   {"wall_angle_a_true_deg", num(p.wall_a_true)},
+                                   {"wall_angle_b_deg", num(p.wall_b)},
+                                   {"wall_angle_b_true_deg", num(p.wall_b_true)},
+                                   {"next_bead_error_y_mm", num(p.next_dy)},
+                                   {"next_bead_error_z_mm", num(p.next_dz)},
+                                   {"first_reason", p.first_reason}});
+  return trackio::Json{{"cell", run.cell}, {"conditions", run.conditions}, {"passes", std::move(passes)}};
+}
+
+}  // namespace vts
