@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "pipeline/groove_passes.h"
 #include "pipeline/static_experiment.h"
 
 namespace vts::apps {
@@ -48,6 +49,22 @@ int run_static(const StaticOptions& o) {
   const std::string md = static_table_markdown(result);
   std::vector<plot::Canvas> pictures;
   for (const StaticRow& r : result.rows) pictures.push_back(static_figure(r, result.conditions));
+  // The built-in groove cells (issue 18), each with its own beads, read by
+  // the groove model at its own preset and standoff.
+  std::vector<GroovePassRun> grooves;
+  for (const std::string& name : builtin_cell_names(CellSet::Small)) {
+    auto cell = builtin_cell(name);
+    if (!cell || cell->workpieces.size() != 1 || !is_groove(cell->workpieces.front().type)) continue;
+    GroovePassSpec g;
+    g.cell = *cell;
+    g.cell.scanner.ideal = spec.ideal;
+    g.first_pass = g.cell.workpieces.front().params.passes;
+    g.profiles = spec.profiles;
+    g.source = spec.source;
+    g.seed = spec.seed;
+    grooves.push_back(run_groove_passes(g));
+  }
+  const std::string grooves_md = groove_cells_markdown(grooves);
 
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -58,10 +75,14 @@ int run_static(const StaticOptions& o) {
     const fs::path png = dir / (std::string("static-") + result.rows[i].label + ".png");
     if (const std::string err = pictures[i].save_png(png); !err.empty()) throw std::runtime_error(err);
   }
+  cli::write_text_file(dir / "grooves.md", "# The groove cells (docs/JOINTS.md, \"Grooves and fill\")\n\n" +
+                                               result.conditions + "\n\n" + grooves_md);
   std::cout << md;
   for (const StaticRow& r : result.rows)
     if (r.ok < r.profiles) std::cout << "static-" << r.label << ": " << r.first_reason << "\n";
-  std::cout << "\nwrote table3.csv, table3.md and static-A.png .. static-F.png to " << dir.string() << "\n";
+  std::cout << "\nThe groove cells, each with its own beads:\n\n" << grooves_md;
+  std::cout << "\nwrote table3.csv, table3.md, grooves.md and static-A.png .. static-F.png to " << dir.string()
+            << "\n";
   return cli::kExitOk;
 }
 

@@ -52,7 +52,7 @@ std::string validate(const GroovePassSpec& spec) {
     return "passes " + std::to_string(spec.first_pass) + ".." + std::to_string(last) + ": must be 0 <= first <= last";
   JointParams p = w.params;
   p.passes = last;
-  if (const std::string e = vts::validate(w.type, p); !e.empty()) return "passes = " + std::to_string(last) + ": " + e;
+  if (const std::string e = vts::validate(w.type, p); !e.empty()) return e;
   return {};
 }
 
@@ -67,7 +67,6 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
                    ", " + spec.cell.scanner.name + ", " + std::to_string(spec.profiles) + " profiles per pass";
   tk::TrackerParams params;
   params.joint = *tracker_joint(base.type);
-  params.groove.vgroove_fill = true;  // beads are laid: the v-groove's bottom is its fill
   for (int laid = spec.first_pass; laid <= last; ++laid) {
     ScanSpec scan;
     scan.cell = spec.cell;
@@ -79,6 +78,9 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
     scan.seed = spec.seed + static_cast<std::uint64_t>(laid);
     const Workpiece& w = scan.cell.workpieces.front();
     const JointTruth& t = w.truth;
+    // Beads laid: the v-groove's bottom is its fill (--fill); an empty one's
+    // root is read by its own template.
+    params.groove.vgroove_fill = laid > 0;
     GroovePass pass;
     pass.laid = laid;
     pass.profiles = spec.profiles;
@@ -132,6 +134,26 @@ std::string groove_passes_markdown(const GroovePassRun& run) {
   }
   for (const GroovePass& p : run.passes)
     if (p.ok < p.profiles) o << "\nafter " << p.laid << " beads, " << p.first_reason;
+  return o.str();
+}
+
+std::string groove_cells_markdown(const std::vector<GroovePassRun>& runs) {
+  std::ostringstream o;
+  o << "| cell | beads | accepted | depth left (mm) | true | area left (mm2) | true | top width (mm) | true | walls "
+       "(deg) | true | B3 error across / in depth (mm) |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const GroovePassRun& run : runs) {
+    if (run.passes.empty()) continue;
+    const GroovePass& p = run.passes.back();
+    o << "| " << run.cell << " | " << p.laid << " | " << p.ok << "/" << p.profiles << " | " << fmt(p.depth, 3) << " | "
+      << fmt(p.depth_true, 3) << " | " << fmt(p.area, 1) << " | " << fmt(p.area_true, 1) << " | " << fmt(p.width, 3)
+      << " | " << fmt(p.width_true, 3) << " | " << fmt(p.wall_a, 2) << ", " << fmt(p.wall_b, 2) << " | "
+      << fmt(p.wall_a_true, 2) << ", " << fmt(p.wall_b_true, 2) << " | " << fmt(p.next_dy, 3) << " / "
+      << fmt(p.next_dz, 3) << " |\n";
+  }
+  for (const GroovePassRun& run : runs)
+    for (const GroovePass& p : run.passes)
+      if (p.ok < p.profiles) o << "\n" << run.cell << ": " << p.first_reason;
   return o.str();
 }
 

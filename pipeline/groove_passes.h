@@ -53,6 +53,9 @@ std::string validate(const GroovePassSpec& spec);
 GroovePassRun run_groove_passes(const GroovePassSpec& spec);
 // The summary as a Markdown table and as JSON (docs/SIM.md, "Multi-pass").
 std::string groove_passes_markdown(const GroovePassRun& run);
+// One row per run (its last pass): the built-in groove cells as `vts static`
+// tabulates them (grooves.md).
+std::string groove_cells_markdown(const std::vector<GroovePassRun>& runs);
 trackio::Json groove_passes_json(const GroovePassRun& run);
 
 }  // namespace vts

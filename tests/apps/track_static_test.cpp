@@ -447,14 +447,31 @@ TEST_CASE("vts static: ideal profiles within the issue's tolerances", "[cli][sta
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(out)) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
-  CHECK(names == std::vector<std::string>{"static-A.png", "static-B.png", "static-C.png", "static-D.png",
-                                          "static-E.png", "static-F.png", "table3.csv", "table3.md"});
+  CHECK(names == std::vector<std::string>{"grooves.md", "static-A.png", "static-B.png", "static-C.png",
+                                          "static-D.png", "static-E.png", "static-F.png", "table3.csv", "table3.md"});
   for (const auto& n : names) CHECK(fs::file_size(out / n) > 100);
   CHECK(slurp(out / "static-A.png").substr(1, 3) == "PNG");
   const std::string md = slurp(out / "table3.md");
   CHECK(md.find("| setup | distance | accepted |") != std::string::npos);
   CHECK(r.out.find("| A | 63 | 2/2 |") != std::string::npos);
   check_table(out / "table3.csv", true);
+  // The groove cells' table: every cell read, depth left within 0.1 mm and
+  // area within 2 % of the cells' analytic truth (columns 4-7).
+  std::istringstream grooves(slurp(out / "grooves.md"));
+  int rows = 0;
+  for (std::string line; std::getline(grooves, line);) {
+    if (line.rfind("| ", 0) != 0 || line.find("| cell |") == 0) continue;
+    std::vector<std::string> cols;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, '|');) cols.push_back(c);
+    REQUIRE(cols.size() >= 8);
+    INFO(line);
+    CHECK(cols[3] == " 2/2 ");
+    CHECK(std::abs(std::stod(cols[4]) - std::stod(cols[5])) <= 0.1);
+    CHECK(std::abs(std::stod(cols[6]) - std::stod(cols[7])) <= 0.02 * std::stod(cols[7]));
+    ++rows;
+  }
+  CHECK(rows == 7);  // vgroove, vgroove-thick, bevel, bevel-thick, ugroove, ugroove-fill, jgroove
 }
 
 TEST_CASE("vts static: error model on within the sensor's resolution", "[cli][static][gl]") {
