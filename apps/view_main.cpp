@@ -86,7 +86,7 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1, 10000000));
   cli.add_option("--keys", keys,
                  "Key script, one token per frame: key names (w s a d r f q e z c t g plus minus h "
-                 "space p m v backspace home escape), 'a+b' for two keys in one frame, '_' for no "
+                 "space p m v backspace home b escape), 'a+b' for two keys in one frame, '_' for no "
                  "key, 'TOKEN*N' to repeat; e.g. \"w*30 _ d*10\"")
       ->type_name("SEQUENCE");
   cli.add_option("--size", size, "Window size in pixels, default 1280x720")->type_name("WxH");

@@ -119,6 +119,8 @@ void App::load(Cell cell, std::string label) {
 
   tracker::TrackerParams params = tracker_.params();
   params.joint = template_for(cell_);
+  // Beads laid in a v-groove: its bottom is the fill (vts track --fill).
+  params.groove.vgroove_fill = !cell_.workpieces.empty() && cell_.workpieces.front().params.passes > 0;
   tracker_.set_params(params);
 
   column_dirs_ = column_directions(cell_.scanner);
@@ -135,6 +137,32 @@ void App::load(Cell cell, std::string label) {
   upload_meshes();
   reset_camera();
   status_ = "loaded " + scene_label_ + " (" + std::to_string(mesh.triangle_count()) + " triangles)";
+}
+
+void App::lay_bead() {
+  if (cell_.workpieces.size() != 1 || cell_.workpieces.front().is_mesh() ||
+      !is_groove(cell_.workpieces.front().type)) {
+    status_ = "B lays a bead in a groove cell (vgroove, bevel, ugroove, jgroove); this is none";
+    return;
+  }
+  Workpiece& w = cell_.workpieces.front();
+  JointParams p = w.params;
+  ++p.passes;
+  if (const std::string why = validate(w.type, p); !why.empty()) {
+    status_ = "the groove is full: " + why;
+    return;
+  }
+  w = build_workpiece(w.type, p, w.world_from_joint);
+  tracker::TrackerParams params = tracker_.params();
+  params.groove.vgroove_fill = true;
+  tracker_.set_params(params);
+  have_profile_ = false;
+  configure_worker();
+  upload_meshes();
+  char note[160];
+  std::snprintf(note, sizeof note, "bead %d laid: %.3g mm deep and %.4g mm2 left to fill (true)", p.passes,
+                w.truth.depth_mm, w.truth.area_mm2);
+  status_ = note;
 }
 
 void App::load_builtin(const std::string& name) {
@@ -367,6 +395,7 @@ void App::press(Key key) {
     case Key::FollowCamera: follow_camera = !follow_camera; break;
     case Key::ResetTorch: reset_torch(); break;
     case Key::ResetView: reset_camera(); break;
+    case Key::LayBead: lay_bead(); break;
     case Key::Quit: quit_ = true; break;
     default: break;  // motion keys act through update()
   }

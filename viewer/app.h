@@ -87,6 +87,9 @@ class App {
   bool error_model() const { return !cell_.scanner.ideal; }
   void toggle_recording();
   void reset_torch();
+  // A groove cell: one more bead laid (the workpiece rebuilt, the sensor
+  // and the drawing on the new one), as `vts sim --cell` does between passes.
+  void lay_bead();
 
   // Read by the panels.
   const Cell& cell() const { return cell_; }

@@ -191,6 +191,9 @@ void track_readout(const App& app) {
     value_cell("step", t->step_mm, "mm");
     value_cell("depth", t->depth_mm, "mm");
     value_cell("area", t->area_mm2, "mm2");
+    value_cell("wall a", t->wall_angle_a_deg, "deg");
+    value_cell("wall b", t->wall_angle_b_deg, "deg");
+    value_cell("top width", t->top_width_mm, "mm");
     ImGui::EndTable();
   }
   if (ImGui::BeginTable("breaks", 4, ImGuiTableFlags_SizingFixedFit)) {

@@ -64,6 +64,7 @@ std::optional<Key> press_key_of(int glfw_key) {
     case GLFW_KEY_V: return Key::FollowCamera;
     case GLFW_KEY_BACKSPACE: return Key::ResetTorch;
     case GLFW_KEY_HOME: return Key::ResetView;
+    case GLFW_KEY_B: return Key::LayBead;
     case GLFW_KEY_ESCAPE: return Key::Quit;
     default: return std::nullopt;
   }
