@@ -1,6 +1,6 @@
 // Profiles per second of the seam tracker on ideal 512-point profiles of the
 // built-in cells (generated once with the Embree reference along each cell's
-// path). items_per_second = profiles. Target: at most 5 us per profile.
+// path; the groove cells too, vgroove-thick read with its fill). items_per_second = profiles. Target: at most 5 us per profile.
 // BM_TrackNoisy: the same profiles through the error model (mspot, matte
 // steel, seed 1), with surface_tol_mm set from the sensor's resolution as
 // tests/sensor/tracker_noisy_test.cpp does.
@@ -50,6 +50,7 @@ void BM_Track(benchmark::State& state, const std::string& cell_name, tk::JointTy
     params.surface_tol_mm = std::max(0.02, 3.0 * std::sqrt(noise_mm * noise_mm + step_mm * step_mm / 12.0));
   }
   if (joint == tk::JointType::Lap) params.lap.upper_thickness_mm = cell->workpieces.front().params.thickness_mm;
+  params.groove.vgroove_fill = cell->workpieces.front().params.passes > 0;  // beads laid: --fill
   tk::Tracker tracker(params);
   tk::TrackResult result;
   std::size_t i = 0, ok = 0;
@@ -69,9 +70,13 @@ const int registered = [] {
                                                          {"lap", tk::JointType::Lap},
                                                          {"butt", tk::JointType::Butt},
                                                          {"vgroove", tk::JointType::VGroove},
-                                                         {"static-B", tk::JointType::Fillet}};
+                                                         {"static-B", tk::JointType::Fillet},
+                                                         {"vgroove-thick", tk::JointType::VGroove},
+                                                         {"bevel", tk::JointType::Bevel},
+                                                         {"ugroove", tk::JointType::UGroove},
+                                                         {"jgroove", tk::JointType::JGroove}};
   for (const auto& [cell, joint] : cases) {
-    const std::string label = std::string(cell) == "static-B" ? "static-B" : std::string(to_string(joint));
+    const std::string label = cell;
     for (bool noisy : {false, true}) {
       const std::string name = (noisy ? "BM_TrackNoisy/" : "BM_Track/") + label;
       benchmark::RegisterBenchmark(name.c_str(), BM_Track, std::string(cell), joint, noisy)

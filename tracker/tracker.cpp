@@ -1465,6 +1465,9 @@ class Matcher {
         const Segment& sb = seg(qb);
         if ((pt(sb.first) - pt(sa.last)).norm() > gp.top_width_mm.max + 2.0 * gp.max_edge_mm) break;
         if (std::abs(sa.line.n.x() * sb.line.n.y() - sa.line.n.y() * sb.line.n.x()) > max_sin) continue;
+        // Both tops of one plate surface, give or take the mismatch (a bead's
+        // flat cap deep in the groove is parallel to them too).
+        if (sa.line.distance(pt(sb.first)) > gp.mismatch_mm.max + tol_) continue;
         // A long segment between them on the tops' line: the tops of another
         // groove, or the plate's own top cut by a dropout (extended() joins it).
         bool inner_top = false;
@@ -1685,14 +1688,17 @@ class Matcher {
     std::size_t low = 0;
     double low_v = -std::numeric_limits<double>::infinity();
     const double smooth = std::min(0.5, 10.0 * sigma_);
+    // The inner points run along the bottom in order: a window of
+    // neighbours [lo, hi) slides with k.
+    std::size_t lo = 1, hi = 1;
+    double window_sum = 0.0;
     for (std::size_t k = 0; k < poly.size(); ++k) {
       double v = depth_below(top, poly[k]);
       if (k > 0 && k + 1 < poly.size()) {
-        double sum = 0.0;
-        int n = 0;
-        for (std::size_t m = 1; m + 1 < poly.size(); ++m)
-          if (std::abs((poly[m] - poly[k]).dot(along)) <= smooth) sum += depth_below(top, poly[m]), ++n;
-        v = sum / n;
+        const double uk = poly[k].dot(along);
+        while (hi + 1 < poly.size() && poly[hi].dot(along) - uk <= smooth) window_sum += depth_below(top, poly[hi++]);
+        while (lo < k && uk - poly[lo].dot(along) > smooth) window_sum -= depth_below(top, poly[lo++]);
+        v = hi > lo ? window_sum / static_cast<double>(hi - lo) : v;
       }
       if (v > low_v + 1e-9) low_v = v, low = k;
     }
@@ -1789,7 +1795,11 @@ class Matcher {
     for (std::size_t i = 0; i < poly.size();) {
       poly[out++] = poly[i];
       std::size_t best = i + 1;
-      for (std::size_t j = i + 2; j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
+      // A notch starts with a drop steeper than 45 degrees (cheap: most
+      // points start none).
+      const Vec2 first = i + 1 < poly.size() ? Vec2(poly[i + 1] - poly[i]) : Vec2::Zero();
+      const bool drops = first.dot(down) > std::max(tol_, std::abs(first.dot(along)));
+      for (std::size_t j = i + 2; drops && j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
         const Vec2 d = poly[j] - poly[i];
         const double du = d.dot(along);
         if (du <= 0.0) continue;

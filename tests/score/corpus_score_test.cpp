@@ -31,7 +31,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {56, 0.49}},
       {tk::JointType::Lap, {110, 0.59}},    {tk::JointType::Butt, {90, 0.75}},
-      {tk::JointType::VGroove, {100, 0.70}},
+      {tk::JointType::VGroove, {92, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -51,10 +51,10 @@ TEST_CASE("corpus: the groove model's scores do not get worse", "[tracker][corpu
   o.first_seed = 1000001;
   o.profiles = 100;
   const std::pair<vc::Joint, Limit> limits[] = {
-      {vc::Joint::Bevel, {70, 0.63}},
-      {vc::Joint::UGroove, {14, 0.44}},
-      {vc::Joint::JGroove, {42, 0.59}},
-      {vc::Joint::VGrooveThick, {31, 0.71}},
+      {vc::Joint::Bevel, {64, 0.65}},
+      {vc::Joint::UGroove, {5, 0.47}},
+      {vc::Joint::JGroove, {28, 0.62}},
+      {vc::Joint::VGrooveThick, {22, 0.74}},
   };
   for (const auto& [joint, limit] : limits) {
     o.joints = {joint};
