@@ -303,18 +303,7 @@ TEST_CASE("groove: noisy grooves within the documented tolerances", "[tracker][g
   for (const Case& c : cases) {
     for (std::uint32_t seed = 1; seed <= 5; ++seed) {
       Scan s = scan(c.g);
-      std::uint32_t x = seed * 2654435761u + 7u;
-      auto uni = [&] {
-        x = x * 1664525u + 1013904223u;
-        return (x >> 8) * (1.0 / 16777216.0) - 0.5;
-      };
-      for (int i = 0; i < s.profile.size(); ++i) {
-        if (!s.profile.valid[i]) continue;
-        const double n = (uni() + uni() + uni()) * 2.0 * 0.05;
-        const double r = std::hypot(s.profile.y[i], s.profile.z[i]);
-        s.profile.y[i] = static_cast<float>(s.profile.y[i] * (r + n) / r);
-        s.profile.z[i] = static_cast<float>(s.profile.z[i] * (r + n) / r);
-      }
+      synth::add_noise(s.profile, 0.05, seed);
       const auto r = track(s.profile, c.joint, c.fill);
       const Truth& t = s.truth;
       INFO(tk::to_string(c.joint) << " seed " << seed << ": " << tk::to_string(r.status) << " " << r.reason);
@@ -355,18 +344,7 @@ TEST_CASE("groove: grooves like the issue's real recordings, at 400 mm with 0.1 
   for (const Case& c : cases) {
     Scan s = scan(c.g, 400.0, 2048, -2.0);
     CHECK(s.truth.width == Approx(c.g.wall_a == Wall::Curved ? 22.9 : c.g.passes == 3 ? 56.0 : 50.0).margin(0.2));
-    std::uint32_t x = 99u;
-    auto uni = [&] {
-      x = x * 1664525u + 1013904223u;
-      return (x >> 8) * (1.0 / 16777216.0) - 0.5;
-    };
-    for (int i = 0; i < s.profile.size(); ++i) {
-      if (!s.profile.valid[i]) continue;
-      const double n = (uni() + uni() + uni()) * 2.0 * 0.1;
-      const double r = std::hypot(s.profile.y[i], s.profile.z[i]);
-      s.profile.y[i] = static_cast<float>(s.profile.y[i] * (r + n) / r);
-      s.profile.z[i] = static_cast<float>(s.profile.z[i] * (r + n) / r);
-    }
+    synth::add_noise(s.profile, 0.1, 99);
     const auto r = track(s.profile, c.joint, true);
     const Truth& t = s.truth;
     INFO(c.name << ": " << tk::to_string(r.status) << " " << r.reason);

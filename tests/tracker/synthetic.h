@@ -63,6 +63,27 @@ inline Profile sample(const std::vector<Piece>& pieces, int n = 512, double half
   return p;
 }
 
+// Point i moved by d along its ray (d > 0: away from the sensor).
+inline void along_ray(Profile& p, int i, double d) {
+  const double r = std::hypot(p.y[i], p.z[i]);
+  p.y[i] = static_cast<float>(p.y[i] * (r + d) / r);
+  p.z[i] = static_cast<float>(p.z[i] * (r + d) / r);
+}
+
+// Range noise of standard deviation sigma on every valid point, along its
+// ray: a sum of three uniforms from a fixed LCG (the same on every platform).
+inline void add_noise(Profile& p, double sigma, std::uint32_t seed) {
+  std::uint32_t x = seed * 2654435761u + 12345u;
+  auto u = [&] {
+    x = x * 1664525u + 1013904223u;
+    return (x >> 8) * (1.0 / 16777216.0) - 0.5;
+  };
+  for (int i = 0; i < p.size(); ++i) {
+    const double n = (u() + u() + u()) * 2.0 * sigma;
+    if (p.valid[i]) along_ray(p, i, n);
+  }
+}
+
 inline Vec2 dir_deg(double deg) {
   const double r = deg * std::numbers::pi / 180.0;
   return Vec2(std::cos(r), std::sin(r));

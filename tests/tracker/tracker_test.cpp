@@ -30,26 +30,8 @@ tk::TrackResult track(const synth::Profile& p, tk::JointType joint, tk::TrackerP
 // Lateral spacing of the synthetic columns at range z.
 double spacing_at(double z) { return z * 2.0 * std::tan(20.0 * std::numbers::pi / 180.0) / 512.0; }
 
-// Point i moved by d along its ray (d > 0: away from the sensor).
-void along_ray(synth::Profile& p, int i, double d) {
-  const double r = std::hypot(p.y[i], p.z[i]);
-  p.y[i] = static_cast<float>(p.y[i] * (r + d) / r);
-  p.z[i] = static_cast<float>(p.z[i] * (r + d) / r);
-}
-
-// Range noise of standard deviation sigma on every valid point, along its
-// ray: a sum of three uniforms from a fixed LCG (the same on every platform).
-void add_noise(synth::Profile& p, double sigma, std::uint32_t seed) {
-  std::uint32_t x = seed * 2654435761u + 12345u;
-  auto u = [&] {
-    x = x * 1664525u + 1013904223u;
-    return (x >> 8) * (1.0 / 16777216.0) - 0.5;
-  };
-  for (int i = 0; i < p.size(); ++i) {
-    const double n = (u() + u() + u()) * 2.0 * sigma;
-    if (p.valid[i]) along_ray(p, i, n);
-  }
-}
+using synth::add_noise;
+using synth::along_ray;
 
 // First valid column whose point lies at y >= y0.
 int column_at(const synth::Profile& p, double y0) {
