@@ -23,14 +23,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// A joint-frame point (y, z) in the laser plane of `pose`, sensor frame.
-Vec2 to_sensor(const Workpiece& w, const Pose& pose, const Vec2& yz) {
-  const Pose sensor_from_joint = pose.inverse() * w.world_from_joint;
-  const double x0 = (w.world_from_joint.inverse() * pose).translation().x();
-  const Vec3 s = sensor_from_joint * Vec3(x0, yz.x(), yz.y());
-  return Vec2(s.y(), s.z());
-}
-
 std::string fmt(double v, int decimals) {
   if (!std::isfinite(v)) return "n/a";
   char b[48];
@@ -86,8 +78,8 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
     pass.profiles = spec.profiles;
     pass.depth_true = t.depth_mm, pass.area_true = t.area_mm2, pass.width_true = t.top_width_mm;
     // The tracker's walls are in scan order: which of the joint's is first?
-    const bool a_first = to_sensor(w, scan.cell.path.pose_at(0), t.top_a_yz).x() <=
-                         to_sensor(w, scan.cell.path.pose_at(0), t.top_b_yz).x();
+    const bool a_first = w.in_sensor_frame(scan.cell.path.pose_at(0), t.top_a_yz).x() <=
+                         w.in_sensor_frame(scan.cell.path.pose_at(0), t.top_b_yz).x();
     pass.wall_a_true = a_first ? t.wall_angle_a_deg : t.wall_angle_b_deg;
     pass.wall_b_true = a_first ? t.wall_angle_b_deg : t.wall_angle_a_deg;
     std::vector<double> depth, area, width, wa, wb, dy, dz;
@@ -105,7 +97,7 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
         ++pass.ok;
         depth.push_back(r.depth_mm), area.push_back(r.area_mm2), width.push_back(r.top_width_mm);
         wa.push_back(r.wall_angle_a_deg), wb.push_back(r.wall_angle_b_deg);
-        const Vec2 b3 = to_sensor(w, scan.cell.path.pose_at(prof.index), t.track_yz);
+        const Vec2 b3 = w.in_sensor_frame(scan.cell.path.pose_at(prof.index), t.track_yz);
         dy.push_back(r.track_point->x() - b3.x()), dz.push_back(r.track_point->y() - b3.y());
       }
     });
@@ -118,20 +110,31 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
   return run;
 }
 
+namespace {
+
+// One pass's measured and true values as the tables' columns from
+// "accepted" on.
+std::string pass_cells(const GroovePass& p) {
+  std::ostringstream o;
+  o << p.ok << "/" << p.profiles << " | " << fmt(p.depth, 3) << " | " << fmt(p.depth_true, 3) << " | "
+    << fmt(p.area, 1) << " | " << fmt(p.area_true, 1) << " | " << fmt(p.width, 3) << " | " << fmt(p.width_true, 3)
+    << " | " << fmt(p.wall_a, 2) << ", " << fmt(p.wall_b, 2) << " | " << fmt(p.wall_a_true, 2) << ", "
+    << fmt(p.wall_b_true, 2) << " | " << fmt(p.next_dy, 3) << " / " << fmt(p.next_dz, 3) << " |";
+  return o.str();
+}
+
+constexpr const char* kPassColumns =
+    "accepted | depth left (mm) | true | area left (mm2) | true | top width (mm) | true | walls (deg) | true";
+
+}  // namespace
+
 std::string groove_passes_markdown(const GroovePassRun& run) {
   std::ostringstream o;
   o << "Multi-pass: " << run.cell << ", " << run.conditions
     << ". Medians over the accepted profiles; true values from the cell's analytic truth.\n\n"
-    << "| beads laid | accepted | depth left (mm) | true | area left (mm2) | true | top width (mm) | true | walls (deg) "
-       "| true | next bead: error across / in depth (mm) |\n"
+    << "| beads laid | " << kPassColumns << " | next bead: error across / in depth (mm) |\n"
     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const GroovePass& p : run.passes) {
-    o << "| " << p.laid << " | " << p.ok << "/" << p.profiles << " | " << fmt(p.depth, 3) << " | "
-      << fmt(p.depth_true, 3) << " | " << fmt(p.area, 1) << " | " << fmt(p.area_true, 1) << " | " << fmt(p.width, 3)
-      << " | " << fmt(p.width_true, 3) << " | " << fmt(p.wall_a, 2) << ", " << fmt(p.wall_b, 2) << " | "
-      << fmt(p.wall_a_true, 2) << ", " << fmt(p.wall_b_true, 2) << " | " << fmt(p.next_dy, 3) << " / "
-      << fmt(p.next_dz, 3) << " |\n";
-  }
+  for (const GroovePass& p : run.passes) o << "| " << p.laid << " | " << pass_cells(p) << "\n";
   for (const GroovePass& p : run.passes)
     if (p.ok < p.profiles) o << "\nafter " << p.laid << " beads, " << p.first_reason;
   return o.str();
@@ -139,18 +142,11 @@ std::string groove_passes_markdown(const GroovePassRun& run) {
 
 std::string groove_cells_markdown(const std::vector<GroovePassRun>& runs) {
   std::ostringstream o;
-  o << "| cell | beads | accepted | depth left (mm) | true | area left (mm2) | true | top width (mm) | true | walls "
-       "(deg) | true | B3 error across / in depth (mm) |\n"
+  o << "| cell | beads | " << kPassColumns << " | B3 error across / in depth (mm) |\n"
     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const GroovePassRun& run : runs) {
-    if (run.passes.empty()) continue;
-    const GroovePass& p = run.passes.back();
-    o << "| " << run.cell << " | " << p.laid << " | " << p.ok << "/" << p.profiles << " | " << fmt(p.depth, 3) << " | "
-      << fmt(p.depth_true, 3) << " | " << fmt(p.area, 1) << " | " << fmt(p.area_true, 1) << " | " << fmt(p.width, 3)
-      << " | " << fmt(p.width_true, 3) << " | " << fmt(p.wall_a, 2) << ", " << fmt(p.wall_b, 2) << " | "
-      << fmt(p.wall_a_true, 2) << ", " << fmt(p.wall_b_true, 2) << " | " << fmt(p.next_dy, 3) << " / "
-      << fmt(p.next_dz, 3) << " |\n";
-  }
+  for (const GroovePassRun& run : runs)
+    if (!run.passes.empty())
+      o << "| " << run.cell << " | " << run.passes.back().laid << " | " << pass_cells(run.passes.back()) << "\n";
   for (const GroovePassRun& run : runs)
     for (const GroovePass& p : run.passes)
       if (p.ok < p.profiles) o << "\n" << run.cell << ": " << p.first_reason;

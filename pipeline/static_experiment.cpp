@@ -35,11 +35,7 @@ double ray_line(const Vec2& d, const Vec2& p, const Vec2& u) {
 // t_i = tan(fan/2) (2 (i + 0.5) / N - 1).
 StaticTruth truth_at(const Workpiece& w, const ScannerDesc& desc, const Pose& pose) {
   const Pose sensor_from_joint = pose.inverse() * w.world_from_joint;
-  const double x0 = (w.world_from_joint.inverse() * pose).translation().x();  // the laser plane cuts the seam here
-  auto to_s = [&](const Vec2& yz) {
-    const Vec3 s = sensor_from_joint * Vec3(x0, yz.x(), yz.y());
-    return Vec2(s.y(), s.z());
-  };
+  auto to_s = [&](const Vec2& yz) { return w.in_sensor_frame(pose, yz); };
   auto dir_s = [&](const Vec2& u) {
     const Vec3 d = sensor_from_joint.linear() * Vec3(0.0, u.x(), u.y());
     return Vec2(d.y(), d.z()).normalized();

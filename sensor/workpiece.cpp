@@ -447,6 +447,13 @@ Mesh Workpiece::mesh() const {
 Vec3 Workpiece::seam_origin() const { return world_from_joint * Vec3::Zero(); }
 Vec3 Workpiece::seam_direction() const { return world_from_joint.linear() * Vec3::UnitX(); }
 
+Vec2 Workpiece::in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const {
+  const Pose sensor_from_joint = world_from_sensor.inverse() * world_from_joint;
+  const double x0 = (world_from_joint.inverse() * world_from_sensor).translation().x();  // the plane cuts the seam here
+  const Vec3 s = sensor_from_joint * Vec3(x0, joint_yz.x(), joint_yz.y());
+  return Vec2(s.y(), s.z());
+}
+
 std::vector<std::pair<Vec3, double>> Workpiece::face_planes() const {
   std::vector<std::pair<Vec3, double>> planes;
   const Eigen::Matrix3d& r = world_from_joint.linear();

@@ -131,6 +131,10 @@ struct Workpiece {
   // workpiece has no seam: its joint frame's origin and x axis.
   Vec3 seam_origin() const;
   Vec3 seam_direction() const;
+  // A cross-section point (joint frame y, z) where the laser plane of a
+  // sensor at world_from_sensor cuts the seam, in that sensor's frame (y, z):
+  // where the truth lies in its profile.
+  Vec2 in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const;
   // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
   // every plate, world frame; from the section polygons, not the mesh. None
   // for a mesh workpiece.
