@@ -48,6 +48,19 @@ double parse_number(const std::string& option, const std::string& text, double l
   return v;
 }
 
+// --sensor, --material and --ideal onto the scanner (the box's and a groove cell's alike).
+void apply_sensor_options(const SimOptions& o, ScannerDesc& sc) {
+  if (!o.sensor.empty()) {
+    const auto preset = sensor_preset(o.sensor);
+    if (!preset)
+      bad("--sensor", o.sensor, "unknown sensor; valid names: " + join_names(sensor_preset_names()));
+    set_sensor_fields(sc, *preset);
+  }
+  if (!o.material.empty() && !apply_material(sc, o.material))
+    bad("--material", o.material, "unknown material; valid names: " + join_names(material_names()));
+  sc.ideal = o.ideal;
+}
+
 // Everything checked before anything is created.
 struct SimPlan {
   SimSpec spec;
@@ -64,15 +77,7 @@ SimPlan plan_sim(const SimOptions& o) {
   if (!o.rotation.empty()) spec.cell.rotation_deg = parse_number("--rotation", o.rotation, 0.0, 10.0, "degrees");
 
   ScannerDesc& sc = spec.scanner;
-  if (!o.sensor.empty()) {
-    const auto preset = sensor_preset(o.sensor);
-    if (!preset)
-      bad("--sensor", o.sensor, "unknown sensor; valid names: " + join_names(sensor_preset_names()));
-    set_sensor_fields(sc, *preset);
-  }
-  if (!o.material.empty() && !apply_material(sc, o.material))
-    bad("--material", o.material, "unknown material; valid names: " + join_names(material_names()));
-  sc.ideal = o.ideal;
+  apply_sensor_options(o, sc);
   if (!o.rate.empty()) sc.rate_hz = parse_number("--rate", o.rate, 1.0, 10000.0, "Hz");
   spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
   spec.cell.standoff_mm = sim_standoff_mm(sc);
@@ -101,15 +106,7 @@ int run_passes(const SimOptions& o) {
     if (!v->empty()) bad(opt, *v, "only for the box experiment, not with --cell or --scene");
   GroovePassSpec spec;
   spec.cell = cli::load_cell(o.cell, o.scene).cell;
-  ScannerDesc& sc = spec.cell.scanner;
-  if (!o.sensor.empty()) {
-    const auto preset = sensor_preset(o.sensor);
-    if (!preset) bad("--sensor", o.sensor, "unknown sensor; valid names: " + join_names(sensor_preset_names()));
-    set_sensor_fields(sc, *preset);
-  }
-  if (!o.material.empty() && !apply_material(sc, o.material))
-    bad("--material", o.material, "unknown material; valid names: " + join_names(material_names()));
-  sc.ideal = o.ideal;
+  apply_sensor_options(o, spec.cell.scanner);
   spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
   spec.seed = o.seed.empty() ? 1 : cli::parse_seed("--seed", o.seed);
   if (!o.passes.empty()) spec.last_pass = static_cast<int>(parse_number("--passes", o.passes, 0.0, 1000.0, "beads"));

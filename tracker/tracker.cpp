@@ -1720,7 +1720,6 @@ class Matcher {
     c.angle = 180.0 - c.wall_a - c.wall_b;
     c.top_width = (b5 - b1).norm();
     c.mismatch = std::abs(a.line.signed_distance(b5));
-    c.gap = kNaN;
     c.edge_unc = unc;
     c.track_unc = 0.5 * unc;
     c.score = c.area;
