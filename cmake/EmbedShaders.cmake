@@ -20,5 +20,5 @@ function(vts_embed_shaders)
     COMMENT "Embedding shaders"
     VERBATIM)
   add_library(${ES_TARGET} STATIC ${out_cpp} ${out_h})
-  target_include_directories(${ES_TARGET} PUBLIC ${CMAKE_CURRENT_BINARY_DIR})
+  target_include_directories(${ES_TARGET} PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_BINARY_DIR}>)
 endfunction()

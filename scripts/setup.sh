@@ -10,6 +10,7 @@ packages=(
   catch2 libbenchmark-dev
   libimgui-dev libstb-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libassimp-dev libpng-dev xvfb xauth
+  python3-dev pybind11-dev python3-numpy python3-pytest
 )
 
 missing=()
