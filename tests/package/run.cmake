@@ -24,3 +24,15 @@ foreach(proj tracker_only full)
   run(${CMAKE_COMMAND} --build ${WORK}/${proj})
   run(${WORK}/${proj}/consumer)
 endforeach()
+
+# The Python package, installed: importable from the prefix alone.
+if(PYTHON)
+  run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix --component python)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${WORK}/prefix/${PYDIR}
+                          ${PYTHON} -c "import vts, numpy; s = vts.scan('fillet', profiles=2); print(vts.__file__, s.y.shape)"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "^${WORK}/prefix/${PYDIR}/vts/__init__.py \\(2, 512\\)")
+    message(FATAL_ERROR "installed Python package: ${out}${err}")
+  endif()
+  message(STATUS "${out}")
+endif()
