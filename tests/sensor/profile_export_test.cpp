@@ -18,6 +18,7 @@
 
 #include "sensor/profile_csv.h"
 #include "sensor/profile_export.h"
+#include "tests/common/bytes.h"
 #include "tests/common/temp_dir.h"
 #include "tests/sensor/exr_fixture.h"
 
@@ -52,13 +53,7 @@ std::string slurp(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-template <class T>
-T get(const std::string& b, std::size_t at) {
-  REQUIRE(at + sizeof(T) <= b.size());
-  T v;
-  std::memcpy(&v, b.data() + at, sizeof(T));
-  return v;
-}
+using vts::test::get;
 
 template <class T>
 std::string bytes_of(const std::vector<T>& v) {
