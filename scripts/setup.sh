@@ -10,6 +10,8 @@ packages=(
   catch2 libbenchmark-dev
   libimgui-dev libstb-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libassimp-dev libpng-dev xvfb xauth
+  zlib1g-dev
+  python3-openimageio python3-numpy python3-pytest openimageio-tools
 )
 
 missing=()
