@@ -685,9 +685,12 @@ ProfileRecording Reader::read() {
   auto part_name = [&](int part) { return in.header(part).hasName() ? in.header(part).name() : std::string(); };
   if (v1 && in.parts() != 1)
     throw fail("a " + std::string(kFormatV1) + " file has one part, this one " + std::to_string(in.parts()));
-  if (!v1 && (in.parts() != 2 || part_name(0) != kProfilesPart || part_name(1) != kRowsPart))
+  if (!v1 && (in.parts() != 2 || part_name(0) != kProfilesPart || part_name(1) != kRowsPart)) {
+    std::string parts;
+    for (int i = 0; i < in.parts(); ++i) parts += (i ? ", '" : "'") + part_name(i) + "'";
     throw fail(std::string("a ") + kFormat + " file has two parts, '" + kProfilesPart + "' and '" + kRowsPart +
-               "'; this one " + std::to_string(in.parts()));
+               "'; this one has " + std::to_string(in.parts()) + ": " + parts);
+  }
   const Imf::Header& rows_header = in.header(v1 ? 0 : 1);
   const int row_xs = v1 ? width : 1;
   if (!v1) {
