@@ -115,7 +115,7 @@ TEST_CASE("vts export: PLY vertices are the EXR's valid points in the world fram
   CHECK(worst < 1e-4);  // float rounding of world coordinates of a few hundred mm
 }
 
-TEST_CASE("vts export: --format overrides the extension; a failed write exits 1 and leaves nothing", "[cli][gl]") {
+TEST_CASE("vts export: --format overrides the extension, and a failed write exits 1 and leaves nothing", "[cli][gl]") {
   TempDir dir;
   REQUIRE(run_vts(dir, "scan --cell plate --source reference --profiles 3 --points 32 --out s.exr").code == 0);
   const Result r = run_vts(dir, "export s.exr --out arrays.bin --format npz");
