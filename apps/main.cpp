@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/cli.h"
+#include "apps/vts_export.h"
 #include "apps/vts_scan.h"
 #include "apps/vts_score.h"
 #include "apps/vts_mesh.h"
@@ -58,6 +59,8 @@ int run(int argc, char** argv) {
   CLI::App* sim = vts::apps::add_sim_command(app, sim_exit);  // runs from its callback
   int mesh_exit = vts::cli::kExitOk;
   CLI::App* mesh = vts::apps::add_mesh_command(app, mesh_exit);  // runs from its callback
+  int export_exit = vts::cli::kExitOk;
+  CLI::App* export_cmd = vts::apps::add_export_command(app, export_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -83,6 +86,7 @@ int run(int argc, char** argv) {
   if (sensors->parsed()) return sensors_exit;
   if (sim->parsed()) return sim_exit;
   if (mesh->parsed()) return mesh_exit;
+  if (export_cmd->parsed()) return export_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

@@ -6,7 +6,7 @@
 #   diff digest-before.txt digest-after.txt
 #
 # One line per output: its sha256 and a label. Outputs are files (EXR, JSON
-# Lines, CSV, PNG, STL/PLY/OBJ, Markdown) and each command's stdout, and for
+# Lines, CSV, PNG, STL/PLY/OBJ, NPZ, Markdown) and each command's stdout, and for
 # bad input its stderr and exit code. The commands run in one fixed directory
 # ($VTS_DIGEST_DIR, default /tmp/vts-output-digest, emptied first), so the
 # absolute paths they print are the same for any build; that path is then
@@ -113,6 +113,15 @@ done
 run mesh/fillet-stl mesh --cell fillet --out mesh/fillet.stl
 digest mesh/fillet-stl mesh/fillet.stl
 
+# vts export: every format, with and without the reference and the error model.
+mkdir -p export
+for f in fillet-ref fillet-ideal lap; do
+  for x in csv ply npz; do
+    run "export/$f-$x" export "scan/$f.exr" --out "export/$f.$x"
+    digest "export/$f-$x" "export/$f.$x"
+  done
+done
+
 # vts track: parameter file, options, joints, CSV input.
 cat >params.yaml <<'EOF'
 joint: vgroove
@@ -185,6 +194,8 @@ run err/sim-speed sim --speed 0
 run err/sim-sensor sim --sensor foo
 run err/mesh-ext mesh --cell fillet --out x.dxf
 run err/plot-row plot scan/fillet.exr --row 500
+run err/export-ext export scan/fillet.exr --out x.txt
+run err/export-missing export missing.exr --out x.csv
 
 # The paper's experiments.
 run static static --out-dir static

@@ -10,7 +10,8 @@ packages=(
   catch2 libbenchmark-dev
   libimgui-dev libstb-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libassimp-dev libpng-dev xvfb xauth
-  python3-dev pybind11-dev python3-numpy python3-pytest
+  zlib1g-dev
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio openimageio-tools
 )
 
 missing=()

@@ -7,10 +7,13 @@
 #include <ImfHeader.h>
 #include <iterator>
 #include <vector>
-#include <ImfInputFile.h>
+#include <ImfInputPart.h>
+#include <ImfMultiPartInputFile.h>
+#include <ImfMultiPartOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfPartType.h>
 #include <ImfStdIO.h>
 #include <openexr.h>
-#include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
 #include <unistd.h>
 
@@ -26,6 +29,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "common/parallel.h"
 #include "sensor/pose.h"
@@ -34,7 +38,13 @@ namespace vts {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr const char* kFormat = "vts-profiles 1";
+// Version 2 (written): two parts, "profiles" (per point) and "rows" (per
+// row), no subsampled channels. Version 1 (read): one part whose per-row
+// channels are x-subsampled (xSampling = width), which OpenImageIO refuses.
+constexpr const char* kFormat = "vts-profiles 2";
+constexpr const char* kFormatV1 = "vts-profiles 1";
+constexpr const char* kProfilesPart = "profiles";
+constexpr const char* kRowsPart = "rows";
 constexpr const char* kUnits = "mm (y, z, range, pose.t*), s (time)";
 constexpr const char* kFrame =
     "Sensor frame: origin at the laser, z along the optical axis (range), y along the laser "
@@ -44,6 +54,10 @@ constexpr const char* kColumns =
     "Row r is profile r in scan order. Column i of N = vts.scanner.points samples the "
     "sensor-frame ray (0, t_i, 1) with t_i = tan(fan_deg / 2) * (2 * (i + 0.5) / N - 1). "
     "Invalid points have range = y = z = 0 and valid = 0.";
+constexpr const char* kRowsText =
+    "Row r holds the pose (world_from_sensor) and time of row r of part 'profiles'. pose.* and "
+    "time are rounded to float; f64hi.<name> and f64lo.<name> hold the high and low 32 bits of "
+    "the exact IEEE binary64 value.";
 constexpr const char* kReferenceKind = "embree3-robust";
 constexpr const char* kNoReference = "none";
 
@@ -67,7 +81,8 @@ std::vector<int> point_slots(const ProfileFileInfo& info) {
   if (info.error_model) slots.insert(slots.end(), {8, 9, 10, 11});
   return slots;
 }
-// Per-row channels: one sample per row (xSampling = width).
+// Per-row channels: one sample per row, in part "rows" (version 1: in the
+// one part, xSampling = width).
 constexpr std::array<const char*, 8> kRowNames = {"pose.tx", "pose.ty", "pose.tz", "pose.qw",
                                                   "pose.qx", "pose.qy", "pose.qz", "time"};
 // The per-row values are doubles; FLOAT channels hold them rounded, UINT
@@ -128,12 +143,6 @@ std::string format_double(double v) {
   return std::string(buf, res.ptr);
 }
 
-std::array<double, 8> row_values(const Profile& p) {
-  const Eigen::Quaterniond q = rotation_quat(p.world_from_sensor);
-  const Vec3 t = p.world_from_sensor.translation();
-  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), p.time_s};
-}
-
 std::string matrix_text(const Pose& pose) {
   std::string s;
   for (int r = 0; r < 4; ++r)
@@ -145,6 +154,42 @@ std::string matrix_text(const Pose& pose) {
 }
 
 }  // namespace
+
+std::array<double, 8> profile_row_values(const Profile& p) {
+  const Eigen::Quaterniond q = rotation_quat(p.world_from_sensor);
+  const Vec3 t = p.world_from_sensor.translation();
+  return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), p.time_s};
+}
+
+std::array<double, 8> recording_row_values(const ProfileRecording& rec, std::size_t r) {
+  return r < rec.row_values.size() ? rec.row_values[r] : profile_row_values(rec.profiles.at(r));
+}
+
+std::vector<std::pair<std::string, std::string>> profile_attributes(const ProfileFileInfo& info) {
+  std::vector<std::pair<std::string, std::string>> a;
+  auto put = [&](const char* name, const std::string& value) { a.emplace_back(name, value); };
+  const ScannerDesc& s = info.scanner;
+  put("vts.units", kUnits);
+  put("vts.frame", kFrame);
+  put("vts.columns", kColumns);
+  put("vts.scanner.name", s.name);
+  put("vts.scanner.fan_deg", format_double(s.fan_deg));
+  put("vts.scanner.points", std::to_string(s.points));
+  put("vts.scanner.min_range_mm", format_double(s.min_range_mm));
+  put("vts.scanner.max_range_mm", format_double(s.max_range_mm));
+  put("vts.scanner.max_hit_mm", format_double(s.max_hit_mm));
+  put("vts.scanner.rate_hz", format_double(s.rate_hz));
+  put("vts.scanner.tool_from_laser", matrix_text(s.tool_from_laser));
+  for (const NumberField& f : number_fields()) put(f.attribute, format_double(s.*f.member));
+  for (const IntField& f : int_fields()) put(f.attribute, std::to_string(s.*f.member));
+  put("vts.scanner.material", s.material);
+  put("vts.error_model", info.error_model ? kModelOn : kModelOff);
+  put("vts.scene.name", info.scene_name);
+  put("vts.scene.yaml", info.scene_text);
+  put("vts.reference", info.has_reference ? kReferenceKind : kNoReference);
+  put("vts.seed", std::to_string(info.seed));
+  return a;
+}
 
 namespace {
 
@@ -249,7 +294,8 @@ struct ProfileExrWriter::Impl {
 
   std::ofstream ofs;
   std::unique_ptr<Imf::StdOFStream> stream;
-  std::unique_ptr<Imf::OutputFile> file;
+  std::unique_ptr<Imf::MultiPartOutputFile> file;
+  std::unique_ptr<Imf::OutputPart> profiles_part, rows_part;
 
   std::array<std::vector<float>, kPointSlots> points;  // see kPointNames
   std::array<std::vector<float>, 8> row_f;
@@ -281,45 +327,34 @@ void ProfileExrWriter::Impl::open() {
   tmp = path;
   tmp += ".tmp-" + std::to_string(::getpid());
 
-  Imf::Header h(width, info.profiles);
-  h.compression() = Imf::ZIP_COMPRESSION;
-  // zlib's fastest level: about a third of level 4's time for files a few
-  // per cent larger (docs/PERFORMANCE.md); compression bounds vts scan.
-  h.zipCompressionLevel() = 1;
-  h.lineOrder() = Imf::INCREASING_Y;
-  for (int c : point_slots(info)) h.channels().insert(kPointNames[c], Imf::Channel(Imf::FLOAT));
-  for (const char* name : kRowNames) {
-    h.channels().insert(name, Imf::Channel(Imf::FLOAT, width, 1));
-    h.channels().insert(std::string(kHiPrefix) + name, Imf::Channel(Imf::UINT, width, 1));
-    h.channels().insert(std::string(kLoPrefix) + name, Imf::Channel(Imf::UINT, width, 1));
-  }
-
-  auto put = [&](const char* name, const std::string& value) {
-    h.insert(name, Imf::StringAttribute(value));
+  // Part 0, "profiles": one row per profile, one column per point. Part 1,
+  // "rows": one row per profile, one column. Both ZIP with zlib's fastest
+  // level: about a third of level 4's time for files a few per cent larger
+  // (docs/PERFORMANCE.md); compression bounds vts scan.
+  const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(width - 1, info.profiles - 1));
+  auto part_header = [&](const char* name, int part_width) {
+    Imf::Header h(display, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(part_width - 1, info.profiles - 1)));
+    h.setName(name);
+    h.setType(Imf::SCANLINEIMAGE);
+    h.compression() = Imf::ZIP_COMPRESSION;
+    h.zipCompressionLevel() = 1;
+    h.lineOrder() = Imf::INCREASING_Y;
+    h.insert("vts.format", Imf::StringAttribute(kFormat));
+    return h;
   };
-  const ScannerDesc& s = info.scanner;
-  put("comments", "vts laser profiles: one row per profile, one column per point (docs/EXR_FORMAT.md)");
-  put("vts.format", kFormat);
-  put("vts.units", kUnits);
-  put("vts.frame", kFrame);
-  put("vts.columns", kColumns);
-  put("vts.scanner.name", s.name);
-  put("vts.scanner.fan_deg", format_double(s.fan_deg));
-  put("vts.scanner.points", std::to_string(s.points));
-  put("vts.scanner.min_range_mm", format_double(s.min_range_mm));
-  put("vts.scanner.max_range_mm", format_double(s.max_range_mm));
-  put("vts.scanner.max_hit_mm", format_double(s.max_hit_mm));
-  put("vts.scanner.rate_hz", format_double(s.rate_hz));
-  put("vts.scanner.tool_from_laser", matrix_text(s.tool_from_laser));
-  for (const NumberField& f : number_fields())
-    put(f.attribute, format_double(s.*f.member));
-  for (const IntField& f : int_fields()) put(f.attribute, std::to_string(s.*f.member));
-  put("vts.scanner.material", s.material);
-  put("vts.error_model", info.error_model ? kModelOn : kModelOff);
-  put("vts.scene.name", info.scene_name);
-  put("vts.scene.yaml", info.scene_text);
-  put("vts.reference", info.has_reference ? kReferenceKind : kNoReference);
-  put("vts.seed", std::to_string(info.seed));
+  std::array<Imf::Header, 2> headers = {part_header(kProfilesPart, width), part_header(kRowsPart, 1)};
+  Imf::Header& h = headers[0];
+  for (int c : point_slots(info)) h.channels().insert(kPointNames[c], Imf::Channel(Imf::FLOAT));
+  h.insert("comments", Imf::StringAttribute("vts laser profiles: one row per profile, one column per "
+                                            "point; part 'rows': each row's pose and time (docs/EXR_FORMAT.md)"));
+  for (const auto& [name, value] : profile_attributes(info)) h.insert(name, Imf::StringAttribute(value));
+  Imf::Header& rh = headers[1];
+  for (const char* name : kRowNames) {
+    rh.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    rh.channels().insert(std::string(kHiPrefix) + name, Imf::Channel(Imf::UINT));
+    rh.channels().insert(std::string(kLoPrefix) + name, Imf::Channel(Imf::UINT));
+  }
+  rh.insert("vts.rows", Imf::StringAttribute(kRowsText));
 
   for (int c : point_slots(info)) points[c].assign(std::size_t(kChunkRows) * width, 0.0f);
   for (int c = 0; c < 8; ++c) {
@@ -337,7 +372,9 @@ void ProfileExrWriter::Impl::open() {
     // 16-row blocks of a chunk on its thread pool, which runs on the vts
     // threads (see ArenaTaskProvider). The bytes written do not depend on
     // the thread count.
-    file = std::make_unique<Imf::OutputFile>(*stream, h, exr_threads());
+    file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, exr_threads());
+    profiles_part = std::make_unique<Imf::OutputPart>(*file, 0);
+    rows_part = std::make_unique<Imf::OutputPart>(*file, 1);
   } catch (const std::exception& e) {
     discard();
     throw ExrError(err(e.what()));
@@ -348,23 +385,24 @@ void ProfileExrWriter::Impl::flush() {
   if (chunk_rows == 0) return;
   const Imath::V2i origin(0, chunk_first);
   const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
-  Imf::FrameBuffer fb;
+  Imf::FrameBuffer fb, rows_fb;
   for (int c : point_slots(info))
     fb.insert(kPointNames[c],
               Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows, fstride,
                                fstride * width));
   for (int c = 0; c < 8; ++c) {
     const std::string name = kRowNames[c];
-    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, width, kChunkRows,
-                                     fstride, fstride, width, 1));
-    fb.insert(kHiPrefix + name, Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, width,
-                                                 kChunkRows, ustride, ustride, width, 1));
-    fb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, width,
-                                                 kChunkRows, ustride, ustride, width, 1));
+    rows_fb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, 1, kChunkRows, fstride, fstride));
+    rows_fb.insert(kHiPrefix + name,
+                   Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, 1, kChunkRows, ustride, ustride));
+    rows_fb.insert(kLoPrefix + name,
+                   Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, 1, kChunkRows, ustride, ustride));
   }
   try {
-    file->setFrameBuffer(fb);
-    file->writePixels(chunk_rows);
+    profiles_part->setFrameBuffer(fb);
+    profiles_part->writePixels(chunk_rows);
+    rows_part->setFrameBuffer(rows_fb);
+    rows_part->writePixels(chunk_rows);
   } catch (const std::exception& e) {
     failed = true;
     throw ExrError(err(std::string("writing rows ") + std::to_string(chunk_first) + ".." +
@@ -380,7 +418,9 @@ void ProfileExrWriter::Impl::flush() {
 
 void ProfileExrWriter::Impl::discard() noexcept {
   try {
-    file.reset();  // OpenEXR writes its offset table here; it swallows errors
+    profiles_part.reset();
+    rows_part.reset();
+    file.reset();  // OpenEXR writes its offset tables here; it swallows errors
   } catch (...) {
   }
   stream.reset();
@@ -451,7 +491,7 @@ void ProfileExrWriter::write(const Profile& profile, const Profile* reference) {
     float* v = m.points[11].data() + off;
     for (int i = 0; i < m.width; ++i) v[i] = profile.true_valid[i] ? 1.0f : 0.0f;
   }
-  const std::array<double, 8> values = row_values(profile);
+  const std::array<double, 8> values = profile_row_values(profile);
   for (int c = 0; c < 8; ++c) {
     const auto bits = std::bit_cast<std::uint64_t>(values[c]);
     m.row_f[c][m.chunk_rows] = static_cast<float>(values[c]);
@@ -477,6 +517,8 @@ void ProfileExrWriter::finish() {
   }
   try {
     m.flush();
+    m.profiles_part.reset();
+    m.rows_part.reset();
     m.file.reset();
     m.stream.reset();
     m.ofs.flush();
@@ -566,9 +608,9 @@ struct Reader {
     return pose;
   }
 
-  // Throws unless the channel exists with this type and sampling.
-  void require_channel(const std::string& name, Imf::PixelType type, int xs) const {
-    const Imf::Channel* ch = header->channels().findChannel(name);
+  // Throws unless the channel exists in `h` with this type and sampling.
+  void require_channel(const Imf::Header& h, const std::string& name, Imf::PixelType type, int xs) const {
+    const Imf::Channel* ch = h.channels().findChannel(name);
     if (!ch) throw fail("channel '" + name + "' is missing");
     if (ch->type != type)
       throw fail("channel '" + name + "' has pixel type " + std::to_string(int(ch->type)) +
@@ -582,13 +624,16 @@ struct Reader {
 };
 
 ProfileRecording Reader::read() {
-  Imf::InputFile in(path.c_str());
-  header = &in.header();
+  Imf::MultiPartInputFile in(path.c_str());
+  header = &in.header(0);
   ProfileRecording rec;
   ProfileFileInfo& info = rec.info;
 
-  if (const std::string& f = text("vts.format"); f != kFormat)
-    throw fail("attribute vts.format = '" + f + "', expected '" + kFormat + "'");
+  const std::string& format = text("vts.format");
+  const bool v1 = format == kFormatV1;
+  if (format != kFormat && !v1)
+    throw fail("attribute vts.format = '" + format + "', expected '" + kFormat + "' (or '" +
+               kFormatV1 + "')");
   ScannerDesc& s = info.scanner;
   s.name = text("vts.scanner.name");
   s.fan_deg = number("vts.scanner.fan_deg");
@@ -635,21 +680,42 @@ ProfileRecording Reader::read() {
                std::to_string(s.points));
   info.profiles = height;
 
+  // The per-row channels: in part "rows", one column (version 2), or in the
+  // one part, x-subsampled (version 1).
+  auto part_name = [&](int part) { return in.header(part).hasName() ? in.header(part).name() : std::string(); };
+  if (v1 && in.parts() != 1)
+    throw fail("a " + std::string(kFormatV1) + " file has one part, this one " + std::to_string(in.parts()));
+  if (!v1 && (in.parts() != 2 || part_name(0) != kProfilesPart || part_name(1) != kRowsPart)) {
+    std::string parts;
+    for (int i = 0; i < in.parts(); ++i) parts += (i ? ", '" : "'") + part_name(i) + "'";
+    throw fail(std::string("a ") + kFormat + " file has two parts, '" + kProfilesPart + "' and '" + kRowsPart +
+               "'; this one has " + std::to_string(in.parts()) + ": " + parts);
+  }
+  const Imf::Header& rows_header = in.header(v1 ? 0 : 1);
+  const int row_xs = v1 ? width : 1;
+  if (!v1) {
+    const Imath::Box2i rdw = rows_header.dataWindow();
+    if (rdw.min != Imath::V2i(0, 0) || rdw.max != Imath::V2i(0, height - 1))
+      throw fail("part '" + std::string(kRowsPart) + "' has dataWindow (" + std::to_string(rdw.min.x) + " " +
+                 std::to_string(rdw.min.y) + ") - (" + std::to_string(rdw.max.x) + " " +
+                 std::to_string(rdw.max.y) + "), expected (0 0) - (0 " + std::to_string(height - 1) + ")");
+  }
+
   const std::vector<int> slots = point_slots(info);
-  for (int c : slots) require_channel(kPointNames[c], Imf::FLOAT, 1);
+  for (int c : slots) require_channel(*header, kPointNames[c], Imf::FLOAT, 1);
   // Exact doubles when both bit channels are there, else the FLOAT rounding.
   std::array<bool, 8> exact{};
   for (int c = 0; c < 8; ++c) {
     const std::string name = kRowNames[c];
-    require_channel(name, Imf::FLOAT, width);
-    const bool hi = header->channels().findChannel(kHiPrefix + name) != nullptr;
-    const bool lo = header->channels().findChannel(kLoPrefix + name) != nullptr;
+    require_channel(rows_header, name, Imf::FLOAT, row_xs);
+    const bool hi = rows_header.channels().findChannel(kHiPrefix + name) != nullptr;
+    const bool lo = rows_header.channels().findChannel(kLoPrefix + name) != nullptr;
     if (hi != lo)
       throw fail("channel '" + (hi ? kHiPrefix + name : kLoPrefix + name) + "' is there but '" +
                  (hi ? kLoPrefix + name : kHiPrefix + name) + "' is missing");
     if (hi) {
-      require_channel(kHiPrefix + name, Imf::UINT, width);
-      require_channel(kLoPrefix + name, Imf::UINT, width);
+      require_channel(rows_header, kHiPrefix + name, Imf::UINT, row_xs);
+      require_channel(rows_header, kLoPrefix + name, Imf::UINT, row_xs);
     }
     exact[c] = hi;
   }
@@ -664,29 +730,39 @@ ProfileRecording Reader::read() {
     row_lo[c].resize(kChunkRows);
   }
   rec.profiles.resize(height);
+  rec.row_values.resize(height);
   if (info.has_reference) rec.reference.resize(height);
 
+  Imf::InputPart profiles_part(in, 0);
+  std::optional<Imf::InputPart> rows_part;
+  if (!v1) rows_part.emplace(in, 1);
   const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
+  const int row_w = v1 ? width : 1;
   for (int first = 0; first < height; first += kChunkRows) {
     const int rows = std::min(kChunkRows, height - first);
     const Imath::V2i origin(0, first);
-    Imf::FrameBuffer fb;
+    Imf::FrameBuffer fb, rows_fb;
     for (int c : slots)
       fb.insert(kPointNames[c],
                 Imf::Slice::Make(Imf::FLOAT, points[c].data(), origin, width, kChunkRows,
                                  fstride, fstride * width));
+    Imf::FrameBuffer& rfb = v1 ? fb : rows_fb;
     for (int c = 0; c < 8; ++c) {
       const std::string name = kRowNames[c];
-      fb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, width, kChunkRows,
-                                       fstride, fstride, width, 1));
+      rfb.insert(name, Imf::Slice::Make(Imf::FLOAT, row_f[c].data(), origin, row_w, kChunkRows,
+                                        fstride, fstride, row_xs, 1));
       if (!exact[c]) continue;
-      fb.insert(kHiPrefix + name, Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, width,
-                                                   kChunkRows, ustride, ustride, width, 1));
-      fb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, width,
-                                                   kChunkRows, ustride, ustride, width, 1));
+      rfb.insert(kHiPrefix + name, Imf::Slice::Make(Imf::UINT, row_hi[c].data(), origin, row_w,
+                                                    kChunkRows, ustride, ustride, row_xs, 1));
+      rfb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, row_w,
+                                                    kChunkRows, ustride, ustride, row_xs, 1));
     }
-    in.setFrameBuffer(fb);
-    in.readPixels(first, first + rows - 1);
+    profiles_part.setFrameBuffer(fb);
+    profiles_part.readPixels(first, first + rows - 1);
+    if (rows_part) {
+      rows_part->setFrameBuffer(rows_fb);
+      rows_part->readPixels(first, first + rows - 1);
+    }
 
     for (int r = 0; r < rows; ++r) {
       const int y = first + r;
@@ -694,6 +770,7 @@ ProfileRecording Reader::read() {
       for (int c = 0; c < 8; ++c)
         v[c] = exact[c] ? std::bit_cast<double>((std::uint64_t(row_hi[c][r]) << 32) | row_lo[c][r])
                         : double(row_f[c][r]);
+      rec.row_values[y] = v;
       const Pose pose = pose_from_quat(Vec3(v[0], v[1], v[2]),
                                        Eigen::Quaterniond(v[3], v[4], v[5], v[6]));
       const std::size_t off = std::size_t(r) * width;
@@ -758,6 +835,7 @@ void check_header_layout(const fs::path& path) {
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t n = bytes.size();
   const std::size_t max_name = (n > 5 && (bytes[5] & 0x04)) ? 255 : 31;  // long-names flag
+  const bool multipart = n > 5 && (bytes[5] & 0x10);                      // multi-part flag
   std::size_t pos = 8;
   auto fail = [&](const std::string& why) { return ExrError(where(path) + ": header " + why); };
   auto read_cstr = [&](std::string& out) {
@@ -769,32 +847,40 @@ void check_header_layout(const fs::path& path) {
     if (pos >= n) throw fail("ends early (truncated file)");
     ++pos;
   };
-  for (;;) {
-    std::string name, type;
-    read_cstr(name);
-    if (name.empty()) return;
-    read_cstr(type);
-    if (pos + 4 > n) throw fail("ends early (truncated file)");
-    std::int32_t size = 0;
-    std::memcpy(&size, &bytes[pos], 4);  // little-endian, as the machines we build for
-    pos += 4;
-    if (size < 0 || pos + static_cast<std::size_t>(size) > n)
-      throw fail("attribute '" + name + "' claims " + std::to_string(size) + " bytes, more than the file holds");
-    const std::size_t end = pos + static_cast<std::size_t>(size);
-    if (type == "chlist") {
-      std::string channel;
-      for (;;) {
-        read_cstr(channel);
-        if (channel.empty()) break;
-        pos += 16;  // pixel type, pLinear, reserved, x and y sampling
-        if (pos > end) throw fail("channel list overruns its declared size");
+  // One header, or (multi-part) headers until an empty one.
+  for (int header = 0;; ++header) {
+    for (int attribute = 0;; ++attribute) {
+      std::string name, type;
+      read_cstr(name);
+      if (name.empty()) {
+        if (!multipart) return;
+        if (attribute == 0) return;  // the empty header after the last part's
+        break;
       }
-      if (pos != end) throw fail("channel list does not end at its declared size");
-    } else if (type != "string" && fixed_attribute_size(type) != size) {
-      throw fail("attribute '" + name + "' of type '" + type + "' and size " + std::to_string(size) +
-                 " is not one a vts profile file has");
+      read_cstr(type);
+      if (pos + 4 > n) throw fail("ends early (truncated file)");
+      std::int32_t size = 0;
+      std::memcpy(&size, &bytes[pos], 4);  // little-endian, as the machines we build for
+      pos += 4;
+      if (size < 0 || pos + static_cast<std::size_t>(size) > n)
+        throw fail("attribute '" + name + "' claims " + std::to_string(size) + " bytes, more than the file holds");
+      const std::size_t end = pos + static_cast<std::size_t>(size);
+      if (type == "chlist") {
+        std::string channel;
+        for (;;) {
+          read_cstr(channel);
+          if (channel.empty()) break;
+          pos += 16;  // pixel type, pLinear, reserved, x and y sampling
+          if (pos > end) throw fail("channel list overruns its declared size");
+        }
+        if (pos != end) throw fail("channel list does not end at its declared size");
+      } else if (type != "string" && fixed_attribute_size(type) != size) {
+        throw fail("attribute '" + name + "' of type '" + type + "' and size " + std::to_string(size) +
+                   " is not one a vts profile file has");
+      }
+      pos = end;
     }
-    pos = end;
+    if (header >= 2) throw fail("has more than the two parts a vts profile file has");
   }
 }
 
@@ -827,22 +913,30 @@ void check_header_sane(const fs::path& path) {
     throw ExrError(where(path) + ": not a readable EXR: " +
                    (message.empty() ? exr_get_default_error_message(rv) : message));
   int parts = 0;
-  exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
   exr_get_count(ctxt, &parts);
-  exr_get_storage(ctxt, 0, &storage);
-  if (parts != 1 || storage != EXR_STORAGE_SCANLINE)
-    throw ExrError(where(path) + ": a tiled, deep or multi-part EXR, not a vts profile file");
-  exr_attr_box2i_t dw{};
-  exr_get_data_window(ctxt, 0, &dw);
-  const double width = double(dw.max.x) - dw.min.x + 1.0;
-  const double rows = double(dw.max.y) - dw.min.y + 1.0;
+  if (parts < 1 || parts > 2)
+    throw ExrError(where(path) + ": an EXR of " + std::to_string(parts) +
+                   " parts, not a vts profile file (one or two parts)");
   const std::uintmax_t file_bytes = fs::file_size(path);
-  if (width < 1.0 || rows < 1.0 || width > kMaxPoints ||
-      width * rows * 4.0 * 4.0 > kMaxCompressionRatio * static_cast<double>(file_bytes))
-    throw ExrError(where(path) + ": dataWindow of " + std::to_string(static_cast<long long>(width)) +
-                   " x " + std::to_string(static_cast<long long>(rows)) +
-                   " cannot be a vts profile file of " + std::to_string(file_bytes) +
-                   " bytes (at most 4096 columns; truncated or corrupt)");
+  for (int part = 0; part < parts; ++part) {
+    exr_storage_t storage = EXR_STORAGE_LAST_TYPE;
+    exr_get_storage(ctxt, part, &storage);
+    if (storage != EXR_STORAGE_SCANLINE)
+      throw ExrError(where(path) + ": a tiled or deep EXR, not a vts profile file");
+    exr_attr_box2i_t dw{};
+    exr_get_data_window(ctxt, part, &dw);
+    const double width = double(dw.max.x) - dw.min.x + 1.0;
+    const double rows = double(dw.max.y) - dw.min.y + 1.0;
+    // Part 0 holds at least four FLOAT channels, part 1 (the rows) at least eight.
+    const double min_bytes_per_pixel = part == 0 ? 4.0 * 4.0 : 8.0 * 4.0;
+    if (width < 1.0 || rows < 1.0 || width > kMaxPoints ||
+        width * rows * min_bytes_per_pixel > kMaxCompressionRatio * static_cast<double>(file_bytes))
+      throw ExrError(where(path) + ": dataWindow of " + std::to_string(static_cast<long long>(width)) +
+                     " x " + std::to_string(static_cast<long long>(rows)) +
+                     (part == 0 ? std::string() : " in part " + std::to_string(part)) +
+                     " cannot be a vts profile file of " + std::to_string(file_bytes) +
+                     " bytes (at most 4096 columns; truncated or corrupt)");
+  }
 }
 
 ProfileRecording read_profile_exr(const fs::path& path) {

@@ -2,21 +2,28 @@
 // vts profile EXR files: one row per profile, one column per point.
 // Layout and attributes are documented in docs/EXR_FORMAT.md.
 //
-// Channels (FLOAT, full resolution): range, y, z, valid; with a reference
-// source also ref.range, ref.y, ref.z, ref.valid; with the error model on also
-// intensity, true.y, true.z, true.valid (the ideal point). Per-row channels (FLOAT,
-// x-subsampled: one sample per row): pose.tx, pose.ty, pose.tz (mm, world),
-// pose.qw, pose.qx, pose.qy, pose.qz (world_from_sensor rotation, w >= 0),
-// time (s). These per-row values are doubles in Profile; the FLOAT channels
-// hold them rounded to float, and UINT per-row channels f64hi.<name> and
-// f64lo.<name> hold the high and low 32 bits of the IEEE binary64 value, so
-// poses and times round-trip exactly.
+// Version 2 (`vts.format` = "vts-profiles 2", written): a two-part file
+// without subsampled channels, which OpenImageIO and every other OpenEXR 2+
+// reader opens. Part 0 "profiles" (width = points, one row per profile),
+// channels FLOAT: range, y, z, valid; with a reference source also ref.range,
+// ref.y, ref.z, ref.valid; with the error model on also intensity, true.y,
+// true.z, true.valid (the ideal point). Part 1 "rows" (width 1, one row per
+// profile): pose.tx, pose.ty, pose.tz (mm, world), pose.qw, pose.qx, pose.qy,
+// pose.qz (world_from_sensor rotation, w >= 0), time (s). These per-row values
+// are doubles in Profile; the FLOAT channels hold them rounded to float, and
+// UINT channels f64hi.<name> and f64lo.<name> hold the high and low 32 bits of
+// the IEEE binary64 value, so poses and times round-trip exactly.
+//
+// Version 1 ("vts-profiles 1", still read): one part holding both, the
+// per-row channels x-subsampled (xSampling = width).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sensor/profile.h"
@@ -76,7 +83,25 @@ struct ProfileRecording {
   std::vector<Profile> profiles;   // index = row
   std::vector<Profile> reference;  // empty unless info.has_reference; pose,
                                    // time and index copied from `profiles`
+  // Per row, the doubles the file stores (profile_row_values' order);
+  // profiles[r].world_from_sensor and time_s are made from them. Filled by
+  // read_profile_exr; empty in a recording made otherwise.
+  std::vector<std::array<double, 8>> row_values;
 };
+
+// A row's per-row values in the file's terms: pose.tx, pose.ty, pose.tz (mm),
+// pose.qw, pose.qx, pose.qy, pose.qz (rotation_quat of world_from_sensor,
+// w >= 0), time (s).
+std::array<double, 8> profile_row_values(const Profile& p);
+// The row values of `rec`'s row r: rec.row_values[r] when read from a file,
+// else profile_row_values(rec.profiles[r]).
+std::array<double, 8> recording_row_values(const ProfileRecording& rec, std::size_t r);
+
+// The string attributes that describe a recording (vts.units, vts.frame,
+// vts.columns, vts.scanner.*, vts.error_model, vts.scene.*, vts.reference,
+// vts.seed), name and value, as the writer stores them in part "profiles";
+// the writer adds vts.format and comments. For exports (sensor/profile_export.h).
+std::vector<std::pair<std::string, std::string>> profile_attributes(const ProfileFileInfo& info);
 
 // Reads the whole file. Throws ExrError with a message naming the file and
 // what is wrong with it (missing file, not an EXR, truncated, missing channel,

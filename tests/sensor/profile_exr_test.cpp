@@ -11,7 +11,15 @@
 #include <string>
 #include <vector>
 
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputPart.h>
+#include <ImfMultiPartInputFile.h>
+#include <ImfStringAttribute.h>
+
 #include "tests/common/temp_dir.h"
+#include "tests/sensor/exr_fixture.h"
 #include "sensor/pose.h"
 #include "sensor/profile_exr.h"
 
@@ -84,6 +92,24 @@ void check_same(const Profile& got, const Profile& want) {
           1e-12);
 }
 
+void check_same_info(const ProfileFileInfo& got, const ProfileFileInfo& want) {
+  const vts::ScannerDesc& s = got.scanner;
+  CHECK(s.name == want.scanner.name);
+  CHECK(s.points == want.scanner.points);
+  CHECK(s.fan_deg == want.scanner.fan_deg);
+  CHECK(s.min_range_mm == want.scanner.min_range_mm);
+  CHECK(s.max_range_mm == want.scanner.max_range_mm);
+  CHECK(s.max_hit_mm == want.scanner.max_hit_mm);
+  CHECK(s.rate_hz == want.scanner.rate_hz);
+  CHECK(s.tool_from_laser.matrix() == want.scanner.tool_from_laser.matrix());
+  CHECK(got.scene_name == want.scene_name);
+  CHECK(got.scene_text == want.scene_text);
+  CHECK(got.profiles == want.profiles);
+  CHECK(got.has_reference == want.has_reference);
+  CHECK(got.error_model == want.error_model);
+  CHECK(got.seed == want.seed);
+}
+
 // Writes `rows` random profiles (and references) and returns what was written.
 struct Written {
   std::vector<Profile> profiles, reference;
@@ -142,19 +168,7 @@ TEST_CASE("exr: round trip is bit-exact", "[exr]") {
   CHECK(std::distance(fs::directory_iterator(file.parent_path()), fs::directory_iterator()) == 1);
 
   const vts::ProfileRecording rec = vts::read_profile_exr(file);
-  const vts::ScannerDesc& s = rec.info.scanner;
-  CHECK(s.name == info.scanner.name);
-  CHECK(s.points == info.scanner.points);
-  CHECK(s.fan_deg == info.scanner.fan_deg);
-  CHECK(s.min_range_mm == info.scanner.min_range_mm);
-  CHECK(s.max_range_mm == info.scanner.max_range_mm);
-  CHECK(s.max_hit_mm == info.scanner.max_hit_mm);
-  CHECK(s.rate_hz == info.scanner.rate_hz);
-  CHECK(s.tool_from_laser.matrix() == info.scanner.tool_from_laser.matrix());
-  CHECK(rec.info.scene_name == info.scene_name);
-  CHECK(rec.info.scene_text == info.scene_text);
-  CHECK(rec.info.profiles == rows);
-  CHECK(rec.info.has_reference == reference);
+  check_same_info(rec.info, info);
 
   REQUIRE(rec.profiles.size() == std::size_t(rows));
   REQUIRE(rec.reference.size() == (reference ? std::size_t(rows) : 0u));
@@ -334,4 +348,133 @@ TEST_CASE("exr: without the exact f64 channels the FLOAT pose channels are used"
     CHECK(rec.profiles[r].world_from_sensor.translation() ==
           w.profiles[r].world_from_sensor.translation());
   }
+}
+
+namespace {
+
+const fs::path kV1Fixture = fs::path(VTS_SOURCE_DIR) / "tests" / "data" / "profiles-v1.exr";
+
+void write_fixture(const fs::path& file) {
+  const ProfileFileInfo info = vts::test::fixture_info();
+  ProfileExrWriter writer(file, info);
+  for (int r = 0; r < info.profiles; ++r) {
+    const Profile p = vts::test::fixture_profile(info.scanner.points, r);
+    const Profile ref = vts::test::fixture_profile(info.scanner.points, r, 1);
+    writer.write(p, &ref);
+  }
+  writer.finish();
+}
+
+// Every value of a file holding the recording of tests/sensor/exr_fixture.h,
+// against the formulas.
+void check_fixture(const vts::ProfileRecording& rec) {
+  const ProfileFileInfo want = vts::test::fixture_info();
+  check_same_info(rec.info, want);
+  REQUIRE(rec.profiles.size() == std::size_t(want.profiles));
+  REQUIRE(rec.reference.size() == std::size_t(want.profiles));
+  REQUIRE(rec.row_values.size() == std::size_t(want.profiles));
+  for (int r = 0; r < want.profiles; ++r) {
+    INFO("row " << r);
+    const Profile p = vts::test::fixture_profile(want.scanner.points, r);
+    const Profile ref = vts::test::fixture_profile(want.scanner.points, r, 1);
+    check_same(rec.profiles[r], p);
+    check_same(rec.reference[r], ref);
+    CHECK(same_bits(rec.profiles[r].intensity, p.intensity));
+    CHECK(same_bits(rec.profiles[r].true_y_mm, p.true_y_mm));
+    CHECK(same_bits(rec.profiles[r].true_z_mm, p.true_z_mm));
+    CHECK(rec.profiles[r].true_valid == p.true_valid);
+    CHECK(rec.row_values[r] == vts::profile_row_values(p));  // the stored doubles, bit for bit
+  }
+}
+
+}  // namespace
+
+TEST_CASE("exr: version 2 round trip of every channel", "[exr]") {
+  TempDir dir;
+  const fs::path file = dir.path / "v2.exr";
+  write_fixture(file);
+  const vts::ProfileRecording rec = vts::read_profile_exr(file);
+  check_fixture(rec);
+}
+
+TEST_CASE("exr: a version-1 file is still read", "[exr]") {
+  // Written by the version-1 writer (tests/data/README.md): one part, the
+  // per-row channels x-subsampled.
+  Imf::MultiPartInputFile in(kV1Fixture.c_str());
+  REQUIRE(in.parts() == 1);
+  REQUIRE(in.header(0).findTypedAttribute<Imf::StringAttribute>("vts.format")->value() == "vts-profiles 1");
+  REQUIRE(in.header(0).channels().findChannel("time")->xSampling == vts::test::kFixturePoints);
+  check_fixture(vts::read_profile_exr(kV1Fixture));
+}
+
+TEST_CASE("exr: version 2 is two parts without subsampled channels, rows exact in part 'rows'", "[exr]") {
+  // Read with plain OpenEXR, not with read_profile_exr.
+  TempDir dir;
+  const fs::path file = dir.path / "v2.exr";
+  write_fixture(file);
+  const ProfileFileInfo info = vts::test::fixture_info();
+  const int w = info.scanner.points, h = info.profiles;
+  Imf::MultiPartInputFile in(file.c_str());
+  REQUIRE(in.parts() == 2);
+  CHECK(in.header(0).name() == "profiles");
+  CHECK(in.header(1).name() == "rows");
+  for (int part = 0; part < 2; ++part) {
+    INFO("part " << part);
+    const Imf::Header& hd = in.header(part);
+    CHECK(hd.findTypedAttribute<Imf::StringAttribute>("vts.format")->value() == "vts-profiles 2");
+    CHECK(hd.compression() == Imf::ZIP_COMPRESSION);
+    CHECK(hd.dataWindow() == Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(part == 0 ? w - 1 : 0, h - 1)));
+    for (auto c = hd.channels().begin(); c != hd.channels().end(); ++c) {
+      INFO("channel " << c.name());
+      CHECK(c.channel().xSampling == 1);
+      CHECK(c.channel().ySampling == 1);
+    }
+  }
+  std::vector<std::string> points, rows;
+  for (auto c = in.header(0).channels().begin(); c != in.header(0).channels().end(); ++c) points.push_back(c.name());
+  for (auto c = in.header(1).channels().begin(); c != in.header(1).channels().end(); ++c) rows.push_back(c.name());
+  CHECK(points == std::vector<std::string>{"intensity", "range", "ref.range", "ref.valid", "ref.y", "ref.z",
+                                           "true.valid", "true.y", "true.z", "valid", "y", "z"});
+  const std::vector<std::string> names = {"pose.qw", "pose.qx", "pose.qy", "pose.qz",
+                                          "pose.tx", "pose.ty", "pose.tz", "time"};
+  std::vector<std::string> want_rows;
+  for (const char* prefix : {"f64hi.", "f64lo.", ""})
+    for (const std::string& n : names) want_rows.push_back(prefix + n);
+  CHECK(rows == want_rows);
+
+  // Part "rows": the doubles in the UINT pairs, rounded in the FLOAT channels.
+  Imf::InputPart part(in, 1);
+  std::vector<std::uint32_t> hi(h), lo(h);
+  std::vector<float> f(h);
+  const std::pair<const char*, int> checked[] = {{"pose.tx", 0}, {"pose.qw", 3}, {"pose.qz", 6}, {"time", 7}};
+  for (const auto& [name, k] : checked) {
+    INFO(name);
+    Imf::FrameBuffer fb;
+    fb.insert(std::string("f64hi.") + name, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(hi.data()), 4, 4));
+    fb.insert(std::string("f64lo.") + name, Imf::Slice(Imf::UINT, reinterpret_cast<char*>(lo.data()), 4, 4));
+    fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(f.data()), 4, 4));
+    part.setFrameBuffer(fb);
+    part.readPixels(0, h - 1);
+    for (int r = 0; r < h; ++r) {
+      const double want = vts::profile_row_values(vts::test::fixture_profile(w, r))[k];
+      CHECK(std::bit_cast<double>(std::uint64_t(hi[r]) << 32 | lo[r]) == want);
+      CHECK(f[r] == static_cast<float>(want));
+    }
+  }
+}
+
+TEST_CASE("exr: a two-part file whose second part is not 'rows' is refused", "[exr]") {
+  TempDir dir;
+  const fs::path good = dir.path / "good.exr";
+  write_fixture(good);
+  std::string b = slurp(good);
+  const std::string key = std::string("name") + '\0' + "string" + '\0' + std::string("\x04\0\0\0", 4) + "rows";
+  const auto at = b.find(key);
+  REQUIRE(at != std::string::npos);
+  b[at + key.size() - 1] = 'z';  // "rowz"
+  const fs::path f = dir.path / "rowz.exr";
+  spit(f, b);
+  CHECK_THROWS_WITH(vts::read_profile_exr(f), Catch::Contains("rowz.exr") &&
+                                                  Catch::EndsWith("rowz.exr': a vts-profiles 2 file has two parts, 'profiles' and "
+                                                                  "'rows'; this one has 2: 'profiles', 'rowz'"));
 }
