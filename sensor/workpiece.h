@@ -148,7 +148,10 @@ struct Workpiece {
   Vec3 seam_direction() const;
   // A cross-section point (joint frame y, z) where the laser plane of a
   // sensor at world_from_sensor cuts the seam, in that sensor's frame (y, z):
-  // where the truth lies in its profile.
+  // where the truth lies in its profile. The line along the seam through the
+  // point is cut exactly, also by a plane oblique to the seam (a sensor
+  // leaning along the seam or turned about its optical axis); a plane
+  // parallel to the seam takes the point at the sensor's own seam position.
   Vec2 in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const;
   // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
   // every plate, world frame; from the section polygons, not the mesh. None
