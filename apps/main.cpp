@@ -17,6 +17,7 @@
 #include "apps/vts_sim.h"
 #include "apps/vts_static.h"
 #include "apps/vts_track.h"
+#include "common/version.h"
 #include "sensor/cell.h"
 
 
@@ -38,7 +39,7 @@ int run(int argc, char** argv) {
   CLI::App app{"vts: virtual laser-triangulation seam sensor emulator for robotic arc welding.\n"
                "Lengths are in mm, angles in degrees, rates in Hz.",
                "vts"};
-  app.set_version_flag("--version", "vts " VTS_VERSION);
+  app.set_version_flag("--version", "vts " + std::string(vts::version()));
   app.require_subcommand(0, 1);
 
   vts::cli::ScanOptions scan_options;
