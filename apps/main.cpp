@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "apps/cli.h"
+#include "apps/vts_dataset.h"
 #include "apps/vts_scan.h"
 #include "apps/vts_score.h"
 #include "apps/vts_mesh.h"
@@ -59,6 +60,8 @@ int run(int argc, char** argv) {
   CLI::App* sim = vts::apps::add_sim_command(app, sim_exit);  // runs from its callback
   int mesh_exit = vts::cli::kExitOk;
   CLI::App* mesh = vts::apps::add_mesh_command(app, mesh_exit);  // runs from its callback
+  int dataset_exit = vts::cli::kExitOk;
+  CLI::App* dataset = vts::apps::add_dataset_command(app, dataset_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -84,6 +87,7 @@ int run(int argc, char** argv) {
   if (sensors->parsed()) return sensors_exit;
   if (sim->parsed()) return sim_exit;
   if (mesh->parsed()) return mesh_exit;
+  if (dataset->parsed()) return dataset_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }
