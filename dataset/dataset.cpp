@@ -175,7 +175,8 @@ ShardInfo write_shard(const DatasetSpec& spec, int k, const fs::path& out_dir, c
   ShardInfo info;
   info.shard = k;
   info.scenes = spec.scenes_per_shard;
-  std::string lines;
+  AtomicFile jsonl(out_dir / shard_jsonl_name(k));  // streamed scene by scene, renamed at the end
+  if (!jsonl.is_open()) throw std::runtime_error("cannot write " + jsonl.path().string());
   DatasetProgress progress;
   progress.shards_total = 1;
   progress.profiles_total = profiles_per_shard(spec);
@@ -192,13 +193,13 @@ ShardInfo write_shard(const DatasetSpec& spec, int k, const fs::path& out_dir, c
     SceneSink sink(out_dir / scene_exr_name(k, j));
     run_scan_job(scan, sink, scan_callbacks);
     for (int i = 0; i < spec.profiles_per_scene; ++i)
-      lines += profile_line(spec, sc, i, sink.valid_points[static_cast<std::size_t>(i)]);
+      jsonl.stream() << profile_line(spec, sc, i, sink.valid_points[static_cast<std::size_t>(i)]);
     info.profiles += spec.profiles_per_scene;
     info.files.push_back(file_info(out_dir, scene_exr_name(k, j)));
     progress.profiles_done = info.profiles;
     if (callbacks.progress) callbacks.progress(progress);
   }
-  write_file(out_dir / shard_jsonl_name(k), lines);
+  jsonl.commit();
   info.files.push_back(file_info(out_dir, shard_jsonl_name(k)));
 
   Json record;

@@ -288,6 +288,7 @@ TEST_CASE("dataset: a cancelled run leaves the shard in hand without its record"
   CHECK(vts::verified_shard(spec, 0, dir.path));
   CHECK_FALSE(vts::verified_shard(spec, 1, dir.path));
   CHECK_FALSE(fs::exists(dir.path / "manifest.json"));
+  for (const auto& [name, bytes] : contents(dir.path)) CHECK(name.find(".tmp-") == std::string::npos);
   CHECK(done.front() == 4);
   const vts::DatasetResult r = vts::run_dataset(spec, dir.path);
   CHECK(r.skipped == std::vector<int>{0});
