@@ -4,7 +4,10 @@
 // except the [gl] case, which runs the default raster source.
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "../common/temp_dir.h"
+#include "common/parallel.h"
 #include "dataset/dataset.h"
 #include "pipeline/scan_job.h"
 #include "sensor/profile_exr.h"
@@ -209,6 +213,35 @@ TEST_CASE("dataset: a shard is a pure function of (spec, k)", "[dataset]") {
   const vts::test::TempDir d;
   CHECK(vts::write_shard(reseeded, 1, d.path).files[2].sha256 != first.files[2].sha256);
   CHECK_THROWS_AS(vts::write_shard(spec, 3, d.path), std::out_of_range);
+}
+
+// Run by the next test in a process of its own (the thread limit is fixed
+// by a process's first parallel loop): writes shard 1 of the small spec to
+// $VTS_DATASET_TEST_OUT with set_thread_limit($VTS_DATASET_TEST_THREADS).
+TEST_CASE("dataset: helper writing a shard with a thread limit", "[.][helper]") {
+  const char* out = std::getenv("VTS_DATASET_TEST_OUT");
+  const char* threads = std::getenv("VTS_DATASET_TEST_THREADS");
+  REQUIRE(out);
+  REQUIRE(threads);
+  vts::set_thread_limit(std::atoi(threads));
+  vts::write_shard(small_spec(), 1, out);
+}
+
+TEST_CASE("dataset: a shard written with 1 and with 2 threads is the same", "[dataset][threads]") {
+  const vts::test::TempDir dir;
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  for (const char* threads : {"1", "2"}) {
+    const std::string cmd = "VTS_DATASET_TEST_OUT='" + (dir.path / threads).string() + "' VTS_DATASET_TEST_THREADS=" +
+                            threads + " '" + self.string() + "' 'dataset: helper writing a shard with a thread limit'" +
+                            " > '" + (dir.path / "log.txt").string() + "' 2>&1";
+    const int status = std::system(cmd.c_str());
+    INFO(slurp(dir.path / "log.txt"));
+    REQUIRE(WIFEXITED(status));
+    REQUIRE(WEXITSTATUS(status) == 0);
+  }
+  const auto one = contents(dir.path / "1");
+  CHECK(one.size() == 4);
+  CHECK(one == contents(dir.path / "2"));
 }
 
 TEST_CASE("dataset: resume rewrites only what is missing or damaged", "[dataset]") {
