@@ -53,7 +53,7 @@ struct JointDraw {
 struct SensorDraw {
   std::string preset;
   double weight = 1.0;
-  Range standoff_mm;  // default: the middle of the preset's depth of field
+  Range standoff_mm;  // default: the middle of min_range_mm .. min(max_range_mm, 3 min_range_mm)
   bool operator==(const SensorDraw&) const = default;
 };
 
