@@ -10,6 +10,7 @@
 
 #include "apps/cli.h"
 #include "apps/vts_export.h"
+#include "apps/vts_dataset.h"
 #include "apps/vts_scan.h"
 #include "apps/vts_score.h"
 #include "apps/vts_mesh.h"
@@ -18,6 +19,7 @@
 #include "apps/vts_sim.h"
 #include "apps/vts_static.h"
 #include "apps/vts_track.h"
+#include "common/version.h"
 #include "sensor/cell.h"
 
 
@@ -39,7 +41,7 @@ int run(int argc, char** argv) {
   CLI::App app{"vts: virtual laser-triangulation seam sensor emulator for robotic arc welding.\n"
                "Lengths are in mm, angles in degrees, rates in Hz.",
                "vts"};
-  app.set_version_flag("--version", "vts " VTS_VERSION);
+  app.set_version_flag("--version", "vts " + std::string(vts::version()));
   app.require_subcommand(0, 1);
 
   vts::cli::ScanOptions scan_options;
@@ -61,6 +63,8 @@ int run(int argc, char** argv) {
   CLI::App* mesh = vts::apps::add_mesh_command(app, mesh_exit);  // runs from its callback
   int export_exit = vts::cli::kExitOk;
   CLI::App* export_cmd = vts::apps::add_export_command(app, export_exit);  // runs from its callback
+  int dataset_exit = vts::cli::kExitOk;
+  CLI::App* dataset = vts::apps::add_dataset_command(app, dataset_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -87,6 +91,7 @@ int run(int argc, char** argv) {
   if (sim->parsed()) return sim_exit;
   if (mesh->parsed()) return mesh_exit;
   if (export_cmd->parsed()) return export_exit;
+  if (dataset->parsed()) return dataset_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

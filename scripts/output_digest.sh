@@ -13,7 +13,8 @@
 # written as <DIR>. What is not deterministic is masked, and only that:
 #   - `vts scan`'s wall time and rate on its second stdout line
 #     ("; 0.26 s (387 profiles/s)"), and its progress lines on stderr;
-#   - `vts sim`'s wall time ("in 1.23 s" in the text, "wall_time_s" in --json).
+#   - `vts sim`'s wall time ("in 1.23 s" in the text, "wall_time_s" in --json);
+#   - `vts dataset`'s wall time and rate ("written in 1.46 s (702 profiles/s)").
 # Nothing else embeds a time, a version or a host: the EXR header holds the
 # scanner and the scene only (docs/EXR_FORMAT.md), PNGs are stb's without
 # metadata. `vts --version` and the --help texts are digested apart, at the
@@ -35,6 +36,7 @@ mask() {
   sed -e "s|$dir|<DIR>|g" \
       -e 's|; [0-9.]* s ([0-9]* profiles/s)$|; <T> s (<R> profiles/s)|' \
       -e 's|simulated in [0-9.]* s|simulated in <T> s|' \
+      -e 's|written in [0-9.]* s ([0-9]* profiles/s)$|written in <T> s (<R> profiles/s)|' \
       -e 's|"wall_time_s":[-0-9.e+]*|"wall_time_s":<T>|'
 }
 digest() {  # digest LABEL FILE...
@@ -52,8 +54,8 @@ run() {
   local rc=0
   "$vts" "$@" >out.txt 2>err.txt || rc=$?
   printf '%s  %s\n' "$(mask <out.txt | sha256sum | cut -d' ' -f1)" "$label:stdout rc=$rc"
-  if grep -qv '^scan: ' err.txt; then
-    printf '%s  %s\n' "$(grep -v '^scan: ' err.txt | mask | sha256sum | cut -d' ' -f1)" "$label:stderr"
+  if grep -Eqv '^(scan|dataset): ' err.txt; then
+    printf '%s  %s\n' "$(grep -Ev '^(scan|dataset): ' err.txt | mask | sha256sum | cut -d' ' -f1)" "$label:stderr"
   fi
   rm -f out.txt err.txt
 }
@@ -213,6 +215,12 @@ digest sim-ideal sim-ideal/timeseries.csv sim-ideal/profiles.exr sim-ideal/track
 run sim-replay sim --json --out-dir sim-replay --replay sim/profiles.exr
 digest sim-replay sim-replay/timeseries.csv sim-replay/tracking_error.png
 
+# A dataset (every file: EXRs, JSON Lines, records, manifest) and a bad spec.
+run dataset dataset --spec "$src/examples/dataset.yaml" --out dataset
+digest dataset dataset/*
+cp "$src/tests/malformed/dataset-min-max.yaml" bad-spec.yaml
+run err/dataset-spec dataset --spec bad-spec.yaml --out dataset-bad
+
 # The viewer's recording (a scripted run waits for its scans, so the
 # recording is deterministic; the screenshot is not digested: its panel
 # shows frame times).
@@ -230,7 +238,7 @@ if [ "${VTS_DIGEST_VIEWER:-1}" = 1 ] && [ -x "$bin/vts-view" ] && command -v xvf
 fi
 
 # Help texts and the version: expected to change with new options.
-for c in "" scan track static sim mesh plot sensors; do
+for c in "" scan track static sim mesh plot sensors dataset; do
   # shellcheck disable=SC2086
   "$vts" $c --help | sha256sum | sed "s|-\$|help:vts $c|"
 done

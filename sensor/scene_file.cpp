@@ -3,11 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -18,6 +14,7 @@
 
 #include "sensor/mesh_file.h"
 #include "sensor/presets.h"
+#include "sensor/yaml_io.h"
 
 namespace vts {
 
@@ -65,197 +62,19 @@ constexpr IntKey kScannerInts[] = {
     {"shiny_cluster_max_points", &ScannerDesc::shiny_cluster_max_points},
 };
 
-std::string format_error(const std::string& file, int line, const std::string& field,
-                         const std::string& message) {
-  std::string s = file + ":" + std::to_string(line) + ": ";
-  if (!field.empty()) s += field + ": ";
-  return s + message;
-}
+using yaml_io::describe;
+using yaml_io::Field;
+using yaml_io::join;
+using yaml_io::num;
+const auto yaml_quoted = yaml_io::quoted;
 
-// Shortest text that parses back to exactly `v` (round-trip, like max_digits10
-// but without the noise digits).
-std::string num(double v) {
-  std::array<char, 64> buf{};
-  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return std::string(buf.data(), r.ptr);
-}
-
-std::string yaml_quoted(std::string_view s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char hex[8];
-          std::snprintf(hex, sizeof hex, "\\x%02x", static_cast<unsigned>(c));
-          out += hex;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
-std::string join(const std::vector<std::string>& names) {
-  std::string s;
-  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
-  return s;
-}
-
-// How a node looks, for "expected X, got Y" messages.
-std::string describe(const YAML::Node& n) {
-  switch (n.Type()) {
-    case YAML::NodeType::Null: return "nothing";
-    case YAML::NodeType::Sequence: return "a list of " + std::to_string(n.size());
-    case YAML::NodeType::Map: return "a map";
-    case YAML::NodeType::Scalar: return "'" + n.Scalar() + "'";
-    default: return "an undefined node";
-  }
-}
-
-// A value together with where it sits in the file and its dotted field path.
-// Map values are reported at their key's line (a block list or map value
-// starts on the next line; a null value carries the mark of the next token);
-// list items at their own line, or the list's line if they are null.
-struct Field {
-  YAML::Node node;
-  std::string path;
-  int key_line = 0;     // 1-based line of the key; 0 for list items
-  int parent_line = 0;  // 1-based line of the enclosing list, for null items
-
-  int line() const {
-    if (key_line > 0) return key_line;
-    if (node.IsNull() || node.Mark().line < 0) return parent_line;
-    return node.Mark().line + 1;
-  }
-};
-
-class Parser {
+class Parser : public yaml_io::Reader {
  public:
   Parser(std::string file, MeshFiles meshes)
-      : file_(std::move(file)), dir_(std::filesystem::path(file_).parent_path()), meshes_(meshes) {}
+      : Reader(std::move(file)), dir_(std::filesystem::path(file_).parent_path()), meshes_(meshes) {}
 
-  [[noreturn]] void fail(int line, const std::string& field, const std::string& msg) const {
+  void raise(int line, const std::string& field, const std::string& msg) const override {
     throw SceneError(file_, line, field, msg);
-  }
-  [[noreturn]] void fail(const Field& f, const std::string& msg) const { fail(f.line(), f.path, msg); }
-
-  // A map's entries, checked against the allowed keys (unknown and duplicate
-  // keys are errors), looked up by name.
-  class Map {
-   public:
-    Map(const Parser& p, const Field& f, std::vector<std::string> allowed)
-        : parser_(p), self_(f), allowed_(std::move(allowed)) {
-      if (!f.node.IsMap()) p.fail(f, "expected a map, got " + describe(f.node));
-      for (const auto& kv : f.node) {
-        const YAML::Node key = kv.first;
-        const YAML::Node value = kv.second;
-        const int key_line = key.Mark().line + 1;
-        if (!key.IsScalar()) p.fail(key_line, f.path, "keys must be plain names, got " + describe(key));
-        const std::string name = key.Scalar();
-        const std::string path = f.path.empty() ? name : f.path + "." + name;
-        bool known = false;
-        for (const auto& a : allowed_) known = known || a == name;
-        if (!known) p.fail(key_line, path, "unknown key (expected one of: " + join(allowed_) + ")");
-        for (const auto& e : entries_)
-          if (e.first == name)
-            p.fail(key_line, path, "duplicate key (first given on line " +
-                                       std::to_string(e.second.key_line) + ")");
-        entries_.emplace_back(name, Field{value, path, key_line});
-      }
-    }
-    std::optional<Field> get(std::string_view name) const {
-      for (const auto& e : entries_)
-        if (e.first == name) return e.second;
-      return std::nullopt;
-    }
-    Field require(std::string_view name) const {
-      if (auto f = get(name)) return *f;
-      const std::string path = self_.path.empty() ? std::string(name) : self_.path + "." + std::string(name);
-      parser_.fail(self_.line(), path, "missing (required)");
-    }
-    const Field& self() const { return self_; }
-
-   private:
-    const Parser& parser_;
-    Field self_;
-    std::vector<std::string> allowed_;
-    std::vector<std::pair<std::string, Field>> entries_;
-  };
-
-  std::string scalar_text(const Field& f, const char* expected) const {
-    // Quoted scalars ('5', "5") are strings in YAML: tag "!".
-    if (!f.node.IsScalar() || f.node.Tag() == "!")
-      fail(f, std::string("expected ") + expected + ", got " + describe(f.node));
-    return f.node.Scalar();
-  }
-
-  // The scalar as a number (YAML's special floats too); nullopt if it is not
-  // one (quoted scalars are strings).
-  std::optional<double> try_number(const Field& f) const {
-    if (!f.node.IsScalar() || f.node.Tag() == "!") return std::nullopt;
-    const std::string s = f.node.Scalar();
-    // YAML's special floats, which strtod does not know.
-    static const std::pair<std::string_view, double> specials[] = {
-        {".nan", NAN}, {".NaN", NAN}, {".NAN", NAN},
-        {".inf", INFINITY}, {".Inf", INFINITY}, {".INF", INFINITY},
-        {"+.inf", INFINITY}, {"+.Inf", INFINITY}, {"+.INF", INFINITY},
-        {"-.inf", -INFINITY}, {"-.Inf", -INFINITY}, {"-.INF", -INFINITY}};
-    for (const auto& [text, value] : specials)
-      if (s == text) return value;
-    if (s.empty() || std::isspace(static_cast<unsigned char>(s.front()))) return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size()) return std::nullopt;
-    return v;
-  }
-
-  double number(const Field& f) const {
-    const std::string s = scalar_text(f, "a number");
-    const auto v = try_number(f);
-    if (!v) fail(f, "expected a number, got " + describe(f.node));
-    if (!std::isfinite(*v)) fail(f, "must be a finite number, got '" + s + "'");
-    return *v;
-  }
-
-  long long integer(const Field& f) const {
-    std::string s = scalar_text(f, "an integer");
-    if (!s.empty() && s.front() == '+') s.erase(0, 1);
-    long long v = 0;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (r.ec == std::errc::result_out_of_range) fail(f, "integer out of range: '" + s + "'");
-    if (r.ec != std::errc() || r.ptr != s.data() + s.size())
-      fail(f, "expected an integer, got " + describe(f.node));
-    return v;
-  }
-
-  // An integer that fits an int; `key` names it in the message.
-  int int_field(const Field& f, std::string_view key) const {
-    const long long v = integer(f);
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-      fail(f, std::string(key) + " = " + std::to_string(v) + ": out of range");
-    return static_cast<int>(v);
-  }
-
-  std::string string(const Field& f) const {
-    if (!f.node.IsScalar()) fail(f, "expected a string, got " + describe(f.node));
-    return f.node.Scalar();
-  }
-
-  Vec3 vec3(const Field& f) const {
-    if (!f.node.IsSequence() || f.node.size() != 3)
-      fail(f, "expected a list of 3 numbers [x, y, z], got " + describe(f.node));
-    Vec3 v;
-    for (std::size_t i = 0; i < 3; ++i)
-      v[static_cast<int>(i)] =
-          number(Field{f.node[i], f.path + "[" + std::to_string(i) + "]", 0, f.line()});
-    return v;
   }
 
   Pose pose(const Field& f) const {
@@ -264,22 +83,6 @@ class Parser {
     if (auto x = m.get("position_mm")) p = vec3(*x);
     if (auto x = m.get("rpy_deg")) rpy = vec3(*x);
     return pose_from_xyz_rpy(p, rpy);
-  }
-
-  // Turns a validate() message ("gap_mm = -1: must be >= 0") into an error at
-  // the named field's node, or at the enclosing map if the field was not given.
-  [[noreturn]] void fail_validation(const Map& m, const std::string& message) const {
-    const std::string name = message.substr(0, message.find_first_of(" =:"));
-    if (auto f = m.get(name)) fail(*f, message);
-    const std::string& base = m.self().path;
-    fail(m.self().line(), base.empty() ? name : base + "." + name, message);
-  }
-
-  bool boolean(const Field& f) const {
-    const std::string s = scalar_text(f, "true or false");
-    if (s == "true" || s == "True" || s == "TRUE") return true;
-    if (s == "false" || s == "False" || s == "FALSE") return false;
-    fail(f, "expected true or false, got " + describe(f.node));
   }
 
   // Order: the sensor preset (all sensor fields), then the material preset
@@ -379,35 +182,18 @@ class Parser {
     return w;
   }
 
-  static bool has_key(const YAML::Node& map, std::string_view name) {
-    if (!map.IsMap()) return false;
-    for (const auto& kv : map)
-      if (kv.first.IsScalar() && kv.first.Scalar() == name) return true;
-    return false;
-  }
-
   Workpiece workpiece(const Field& f) const {
     if (has_key(f.node, "mesh")) return mesh_workpiece_item(f);
-    static const char* const kParamNames[] = {"length_mm",   "width_mm",     "thickness_mm",
-                                              "height_mm",   "gap_mm",       "angle_deg",
-                                              "mismatch_mm", "root_face_mm", "segment_mm",
-                                              "cell_mm",     "layer_mm",     "crown_mm",
-                                              "radius_mm"};
     std::vector<std::string> allowed = {"joint", "pose"};
-    for (const char* n : kParamNames) allowed.emplace_back(n);
+    for (const auto& k : kJointParamNumbers) allowed.emplace_back(k.key);
     allowed.emplace_back("passes");
     allowed.emplace_back("mesh");
     const Map m(*this, f, allowed);
 
     const JointType type = joint_type(m.require("joint"));
     JointParams p = default_params(type);
-    double* const slots[] = {&p.length_mm,   &p.width_mm,     &p.thickness_mm,
-                             &p.height_mm,   &p.gap_mm,       &p.angle_deg,
-                             &p.mismatch_mm, &p.root_face_mm, &p.segment_mm,
-                             &p.cell_mm,     &p.layer_mm,     &p.crown_mm,
-                             &p.radius_mm};
-    for (std::size_t i = 0; i < std::size(kParamNames); ++i)
-      if (auto x = m.get(kParamNames[i])) *slots[i] = number(*x);
+    for (const auto& k : kJointParamNumbers)
+      if (auto x = m.get(k.key)) p.*k.member = number(*x);
     if (auto x = m.get("passes")) p.passes = int_field(*x, "passes");
     if (const std::string err = validate(type, p); !err.empty()) fail_validation(m, err);
 
@@ -524,7 +310,6 @@ class Parser {
   }
 
  private:
-  std::string file_;
   std::filesystem::path dir_;  // the scene file's directory: relative mesh paths start here
   MeshFiles meshes_;
 };
@@ -545,21 +330,14 @@ void write_pose(std::ostringstream& out, const std::string& indent, const Pose& 
 
 SceneError::SceneError(const std::string& file_, int line_, const std::string& field_,
                        const std::string& message)
-    : std::runtime_error(format_error(file_, line_, field_, message)),
+    : std::runtime_error(yaml_io::error_text(file_, line_, field_, message)),
       file(file_),
       field(field_),
       line(line_) {}
 
 Cell parse_scene(const std::string& yaml_text, const std::string& file_name, MeshFiles meshes) {
   const Parser parser(file_name, meshes);
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw SceneError(file_name, e.mark.line + 1, "", "YAML syntax error: " + e.msg);
-  } catch (const YAML::Exception& e) {
-    throw SceneError(file_name, e.mark.line + 1, "", std::string("YAML error: ") + e.what());
-  }
+  const YAML::Node root = parser.load(yaml_text);
   try {
     return parser.cell(root, std::filesystem::path(file_name).stem().string());
   } catch (const SceneError&) {
@@ -571,18 +349,8 @@ Cell parse_scene(const std::string& yaml_text, const std::string& file_name, Mes
 }
 
 Cell load_scene(const std::filesystem::path& path, MeshFiles meshes) {
-  const std::string file = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw SceneError(file, 0, "", "scene file not found");
-  if (std::filesystem::is_directory(path, ec))
-    throw SceneError(file, 0, "", "is a directory, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(file, 0, "", "cannot open scene file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw SceneError(file, 0, "", "read error");
-  return parse_scene(text.str(), file, meshes);
+  const Parser parser(path.string(), meshes);
+  return parse_scene(parser.read_file(path, "scene"), path.string(), meshes);
 }
 
 std::string scene_to_yaml(const Cell& cell) {

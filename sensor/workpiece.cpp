@@ -449,8 +449,16 @@ Vec3 Workpiece::seam_direction() const { return world_from_joint.linear() * Vec3
 
 Vec2 Workpiece::in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const {
   const Pose sensor_from_joint = world_from_sensor.inverse() * world_from_joint;
-  const double x0 = (world_from_joint.inverse() * world_from_sensor).translation().x();  // the plane cuts the seam here
-  const Vec3 s = sensor_from_joint * Vec3(x0, joint_yz.x(), joint_yz.y());
+  // The line through the point along the seam, (x, y, z) for every x, meets
+  // the laser plane (sensor x = 0) where r(0,0) x + r(0,1) y + r(0,2) z +
+  // t.x = 0: at the sensor's own x when the plane is square to the seam, off
+  // it when the sensor leans along the seam or turns about its axis.
+  const Eigen::Matrix3d& r = sensor_from_joint.linear();
+  const double y = joint_yz.x(), z = joint_yz.y();
+  const double x = std::abs(r(0, 0)) > 1e-9
+                       ? -(r(0, 1) * y + r(0, 2) * z + sensor_from_joint.translation().x()) / r(0, 0)
+                       : (world_from_joint.inverse() * world_from_sensor).translation().x();  // plane along the seam
+  const Vec3 s = sensor_from_joint * Vec3(x, y, z);
   return Vec2(s.y(), s.z());
 }
 

@@ -61,6 +61,21 @@ struct JointParams {
 
 JointParams default_params(JointType type);
 
+// The JointParams fields that are numbers, by their key in scene files
+// (docs/SCENE_FORMAT.md) and dataset specs; `passes` is the one integer.
+struct JointParamKey {
+  std::string_view key;
+  double JointParams::*member;
+};
+inline constexpr JointParamKey kJointParamNumbers[] = {
+    {"length_mm", &JointParams::length_mm},       {"width_mm", &JointParams::width_mm},
+    {"thickness_mm", &JointParams::thickness_mm}, {"height_mm", &JointParams::height_mm},
+    {"gap_mm", &JointParams::gap_mm},             {"angle_deg", &JointParams::angle_deg},
+    {"mismatch_mm", &JointParams::mismatch_mm},   {"root_face_mm", &JointParams::root_face_mm},
+    {"segment_mm", &JointParams::segment_mm},     {"cell_mm", &JointParams::cell_mm},
+    {"layer_mm", &JointParams::layer_mm},         {"crown_mm", &JointParams::crown_mm},
+    {"radius_mm", &JointParams::radius_mm}};
+
 // Empty when the parameters are usable for the joint, else a message naming
 // the field and value, e.g. "gap_mm = -1: must be >= 0".
 std::string validate(JointType type, const JointParams& params);
@@ -133,7 +148,10 @@ struct Workpiece {
   Vec3 seam_direction() const;
   // A cross-section point (joint frame y, z) where the laser plane of a
   // sensor at world_from_sensor cuts the seam, in that sensor's frame (y, z):
-  // where the truth lies in its profile.
+  // where the truth lies in its profile. The line along the seam through the
+  // point is cut exactly, also by a plane oblique to the seam (a sensor
+  // leaning along the seam or turned about its optical axis); a plane
+  // parallel to the seam takes the point at the sensor's own seam position.
   Vec2 in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const;
   // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
   // every plate, world frame; from the section polygons, not the mesh. None

@@ -77,6 +77,31 @@ TEST_CASE("seam line follows the workpiece pose", "[geometry]") {
   CHECK((w.seam_direction() - Vec3(0, 1, 0)).norm() < 1e-12);
 }
 
+TEST_CASE("in_sensor_frame: where the laser plane cuts a feature's line, also obliquely", "[geometry]") {
+  // A butt in a posed joint frame; the sensor above its right edge, square
+  // to the seam, then leaning 20 degrees along it and turned 15 about its axis.
+  const Pose joint = pose_from_xyz_rpy({10, -20, 5}, {3, -2, 30});
+  const Workpiece w = build_workpiece(JointType::Butt, default_params(JointType::Butt), joint);
+  const Vec2 edge(0.5, 0.0);  // right_edge: (g / 2, mismatch)
+  Pose square = sensor_pose_looking_at(joint * Vec3(60, edge.x(), edge.y()), joint.linear() * Vec3::UnitZ(), 100.0,
+                                       w.seam_direction());
+  CHECK((w.in_sensor_frame(square, edge) - Vec2(0.0, 100.0)).norm() < 1e-9);
+  for (const auto& [lean, turn] : {std::pair{20.0, 0.0}, {0.0, 15.0}, {20.0, 15.0}, {-35.0, -10.0}}) {
+    Pose oblique = square;
+    oblique.rotate(Eigen::AngleAxisd(lean * kDeg, Vec3::UnitY()));
+    oblique.rotate(Eigen::AngleAxisd(turn * kDeg, Vec3::UnitZ()));
+    const Vec2 s = w.in_sensor_frame(oblique, edge);
+    // In the laser plane (sensor x = 0) by construction; on the edge's line:
+    // back in the joint frame its y and z are the edge's.
+    const Vec3 in_joint = joint.inverse() * (oblique * Vec3(0.0, s.x(), s.y()));
+    INFO("lean " << lean << ", turn " << turn << ": joint " << in_joint.transpose());
+    CHECK(std::abs(in_joint.y() - edge.x()) < 1e-9);
+    CHECK(std::abs(in_joint.z() - edge.y()) < 1e-9);
+    // Leaning along the seam moves the cut by the standoff times tan(lean).
+    if (turn == 0.0) CHECK(in_joint.x() == Approx(60.0 + 100.0 * std::tan(lean * kDeg)).margin(1e-9));
+  }
+}
+
 TEST_CASE("invalid joint parameters are named with their value", "[geometry]") {
   JointParams p = default_params(JointType::VGroove);
   p.gap_mm = -1.0;
