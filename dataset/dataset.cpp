@@ -46,9 +46,6 @@ class SceneSink final : public ScanSink {
   ExrSink exr_;
 };
 
-Json point(const Vec2& p) { return Json{{"y", p.x()}, {"z", p.y()}}; }
-Json optional_point(const std::optional<Vec2>& p) { return p ? point(*p) : Json(); }
-
 // One profile's line (docs/DATASETS.md, "Per profile").
 std::string profile_line(const DatasetSpec& spec, const DatasetScene& sc, int i, int valid_points) {
   const Cell& cell = sc.cell;
@@ -78,31 +75,7 @@ std::string profile_line(const DatasetSpec& spec, const DatasetScene& sc, int i,
   j["pose"] = Json{{"position_mm", {p.x(), p.y(), p.z()}}, {"quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
   j["valid_points"] = valid_points;
   j["ideal"] = spec.ideal;
-  j["in_window"] = t.in_window;
-  j["track_point"] = point(t.track_point);
-  Json bps = Json::array();
-  for (int b = 0; b < tk::kMaxBreakPoints; ++b) {
-    if (!t.break_points[b]) continue;
-    const char name[3] = {'B', static_cast<char>('0' + b), '\0'};
-    Json bp{{"name", name}, {"meaning", std::string(tk::break_point_name(t.joint, b))}};
-    bp.update(point(*t.break_points[b]));
-    bps.push_back(std::move(bp));
-  }
-  j["break_points"] = std::move(bps);
-  // NaN (does not apply) is written as null.
-  j["gap_mm"] = t.gap_mm;
-  j["angle_deg"] = t.angle_deg;
-  j["mismatch_mm"] = t.mismatch_mm;
-  j["step_mm"] = t.step_mm;
-  j["depth_mm"] = t.depth_mm;
-  j["area_mm2"] = t.area_mm2;
-  j["top_width_mm"] = t.top_width_mm;
-  j["wall_angle_a_deg"] = t.wall_angle_a_deg;
-  j["wall_angle_b_deg"] = t.wall_angle_b_deg;
-  j["fill_lowest"] = optional_point(t.fill_lowest);
-  Json features = Json::object();
-  for (const auto& [name, yz] : t.features) features[name] = point(yz);
-  j["features"] = std::move(features);
+  j.update(profile_truth_json(t));
   std::string line = j.dump();
   line += '\n';
   return line;

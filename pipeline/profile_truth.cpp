@@ -93,4 +93,36 @@ ProfileTruth profile_truth(const Workpiece& w, const ScannerDesc& scanner, const
   return out;
 }
 
+trackio::Json profile_truth_json(const ProfileTruth& t) {
+  using trackio::Json;
+  const auto point = [](const Vec2& p) { return Json{{"y", p.x()}, {"z", p.y()}}; };
+  Json j;
+  j["in_window"] = t.in_window;
+  j["track_point"] = point(t.track_point);
+  Json bps = Json::array();
+  for (int b = 0; b < tk::kMaxBreakPoints; ++b) {
+    if (!t.break_points[b]) continue;
+    const char name[3] = {'B', static_cast<char>('0' + b), '\0'};
+    Json bp{{"name", name}, {"meaning", std::string(tk::break_point_name(t.joint, b))}};
+    bp.update(point(*t.break_points[b]));
+    bps.push_back(std::move(bp));
+  }
+  j["break_points"] = std::move(bps);
+  // NaN (does not apply) is written as null.
+  j["gap_mm"] = t.gap_mm;
+  j["angle_deg"] = t.angle_deg;
+  j["mismatch_mm"] = t.mismatch_mm;
+  j["step_mm"] = t.step_mm;
+  j["depth_mm"] = t.depth_mm;
+  j["area_mm2"] = t.area_mm2;
+  j["top_width_mm"] = t.top_width_mm;
+  j["wall_angle_a_deg"] = t.wall_angle_a_deg;
+  j["wall_angle_b_deg"] = t.wall_angle_b_deg;
+  j["fill_lowest"] = t.fill_lowest ? point(*t.fill_lowest) : Json();
+  Json features = Json::object();
+  for (const auto& [name, yz] : t.features) features[name] = point(yz);
+  j["features"] = std::move(features);
+  return j;
+}
+
 }  // namespace vts

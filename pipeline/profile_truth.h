@@ -16,6 +16,7 @@
 #include "sensor/scanner.h"
 #include "sensor/workpiece.h"
 #include "tracker/tracker.h"
+#include "trackio/result_json.h"
 
 namespace vts {
 
@@ -56,5 +57,11 @@ struct ProfileTruth {
 
 // Throws std::invalid_argument for a workpiece without a joint (a plate, a mesh).
 ProfileTruth profile_truth(const Workpiece& w, const ScannerDesc& scanner, const Pose& world_from_sensor);
+
+// As JSON, the labels of a `vts dataset` line (docs/DATASETS.md, "Per
+// profile"): in_window, track_point {y, z}, break_points [{name, meaning, y,
+// z}], gap_mm .. wall_angle_b_deg (null where they do not apply),
+// fill_lowest, features {name: {y, z}}, in that order.
+trackio::Json profile_truth_json(const ProfileTruth& t);
 
 }  // namespace vts

@@ -8,13 +8,18 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/parallel.h"
+#include "common/version.h"
+#include "dataset/dataset.h"
+#include "pipeline/profile_truth.h"
 #include "pipeline/scan_job.h"
 #include "pipeline/track_input.h"
 #include "pipeline/track_recording.h"
@@ -38,7 +43,8 @@ py::object to_python(const trackio::Json& j) {
     case trackio::Json::value_t::boolean: return py::bool_(j.get<bool>());
     case trackio::Json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
     case trackio::Json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
-    case trackio::Json::value_t::number_float: return py::float_(j.get<double>());
+    case trackio::Json::value_t::number_float:  // NaN (does not apply) as None, as it reads in JSON
+      return std::isfinite(j.get<double>()) ? py::object(py::float_(j.get<double>())) : py::object(py::none());
     case trackio::Json::value_t::string: return py::str(j.get<std::string>());
     case trackio::Json::value_t::array: {
       py::list l;
@@ -174,6 +180,60 @@ struct ArraySink final : ScanSink {
   void finish() override {}
 };
 
+Pose pose_of(const Eigen::Matrix4d& m) {
+  Pose p;
+  p.matrix() = m;
+  return p;
+}
+
+const Workpiece* first_joint(const Cell& c) {
+  for (const Workpiece& w : c.workpieces)
+    if (!w.is_mesh() && w.type != JointType::Plate) return &w;
+  return nullptr;
+}
+
+py::dict shard_dict(const ShardInfo& s) {
+  py::dict d;
+  d["shard"] = s.shard, d["scenes"] = s.scenes, d["profiles"] = s.profiles;
+  py::list files;
+  for (const DatasetFile& f : s.files) {
+    py::dict e;
+    e["name"] = f.name, e["bytes"] = f.bytes, e["sha256"] = f.sha256;
+    files.append(e);
+  }
+  d["files"] = files;
+  return d;
+}
+
+ShardInfo shard_of(const py::handle& h) {
+  const py::dict d = py::reinterpret_borrow<py::dict>(h);
+  ShardInfo s;
+  s.shard = d["shard"].cast<int>(), s.scenes = d["scenes"].cast<int>(), s.profiles = d["profiles"].cast<std::int64_t>();
+  for (const py::handle f : d["files"])
+    s.files.push_back({f["name"].cast<std::string>(), f["bytes"].cast<std::uint64_t>(), f["sha256"].cast<std::string>()});
+  return s;
+}
+
+// Runs `job` without the GIL; Ctrl-C between batches stops it (KeyboardInterrupt).
+template <class Job>
+void without_gil(Job&& job) {
+  bool interrupted = false;
+  auto cancelled = [&] {
+    py::gil_scoped_acquire gil;
+    interrupted = PyErr_CheckSignals() != 0;
+    return interrupted;
+  };
+  {
+    py::gil_scoped_release release;
+    try {
+      job(cancelled);
+    } catch (const Cancelled&) {
+      if (!interrupted) throw;
+    }
+  }
+  if (interrupted) throw py::error_already_set();
+}
+
 SourceKind source_of(const std::string& s) {
   if (s == "raster") return SourceKind::Raster;
   if (s == "reference") return SourceKind::Reference;
@@ -197,13 +257,15 @@ tracker::TrackerParams params_of(const std::string& joint, const std::string& ya
 
 PYBIND11_MODULE(_vts, m) {
   m.doc() = "vts: a virtual laser-triangulation seam sensor (C++ core). Use the `vts` package.";
-  m.attr("__version__") = VTS_VERSION;
+  m.attr("__version__") = std::string(vts::version());
 
   py::register_exception<ExrError>(m, "ExrError", PyExc_ValueError);
   py::register_exception<SceneError>(m, "SceneError", PyExc_ValueError);
   py::register_exception<trackio::ParamsError>(m, "ParamsError", PyExc_ValueError);
   py::register_exception<TrackInputError>(m, "TrackInputError", PyExc_ValueError);
   py::register_exception<Cancelled>(m, "Cancelled", PyExc_KeyboardInterrupt);
+  py::register_exception<DatasetSpecError>(m, "DatasetSpecError", PyExc_ValueError);
+  py::register_exception<DatasetDrawError>(m, "DatasetDrawError", PyExc_ValueError);
 
   m.def("set_threads", &set_thread_limit, py::arg("n"),
         "Limit vts's thread pool to n threads (0: all cores); once per process, before the first scan.");
@@ -336,16 +398,20 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
         return d;
       }, "The first joint's analytic truth (gap, angle, ...; grooves: walls, depth, area), joint frame.")
       .def("track_point", [](const Cell& c, const Eigen::Matrix4d& world_from_sensor) -> py::object {
-        for (const Workpiece& w : c.workpieces) {
-          if (w.is_mesh()) continue;
-          Pose pose;
-          pose.matrix() = world_from_sensor;
-          const Vec2 p = w.in_sensor_frame(pose, is_groove(w.type) ? w.truth.track_yz : w.truth.root_yz);
-          return py::make_tuple(p.x(), p.y());
-        }
-        return py::none();
+        const Workpiece* w = first_joint(c);
+        if (!w) return py::none();
+        const Vec2 p = profile_truth(*w, c.scanner, pose_of(world_from_sensor)).track_point;
+        return py::make_tuple(p.x(), p.y());
       }, py::arg("world_from_sensor"),
-         "The first joint's true track point (y, z) in the profile of a sensor at this pose, mm; None without a joint.");
+         "The first joint's true track point (y, z) in the profile of a sensor at this pose, mm; None without a joint.")
+      .def("profile_truth", [](const Cell& c, const Eigen::Matrix4d& world_from_sensor) -> py::object {
+        const Workpiece* w = first_joint(c);
+        if (!w) return py::none();
+        return to_python(profile_truth_json(profile_truth(*w, c.scanner, pose_of(world_from_sensor))));
+      }, py::arg("world_from_sensor"),
+         "The first joint's analytic truth as the profile of a sensor at this pose sees it (sensor frame, mm, "
+         "degrees): track_point, break_points (the tracker's numbering), gap_mm, angle_deg, ...; None without "
+         "a joint. The labels vts dataset writes (docs/DATASETS.md).");
 
   m.def("cells", [] { return builtin_cell_names(CellSet::All); }, "Names of the built-in cells.");
   m.def("cell_description", &builtin_cell_description, py::arg("name"));
@@ -372,22 +438,11 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     const ProfileFileInfo info = scan_file_info(spec);
     Arrays arrays(cell.path.profiles, cell.scanner.points, info.error_model, reference);
     ArraySink sink(&arrays);
-    ScanCallbacks cb;
-    bool interrupted = false;
-    cb.cancelled = [&] {
-      py::gil_scoped_acquire gil;
-      interrupted = PyErr_CheckSignals() != 0;
-      return interrupted;
-    };
-    {
-      py::gil_scoped_release release;
-      try {
-        run_scan_job(spec, sink, cb);
-      } catch (const Cancelled&) {
-        if (!interrupted) throw;
-      }
-    }
-    if (interrupted) throw py::error_already_set();
+    without_gil([&](const std::function<bool()>& cancelled) {
+      ScanCallbacks cb;
+      cb.cancelled = cancelled;
+      run_scan_job(spec, sink, cb);
+    });
     return arrays.dict(info);
   });
 
@@ -473,5 +528,35 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     py::list out;
     for (const std::string& l : lines) out.append(to_python(trackio::Json::parse(l)));
     return out;
+  });
+
+  // ---- Datasets (python/vts/dataset.py wraps these) ----------------------
+  m.def("dataset_canonical", [](const std::string& text, const std::string& name) {
+    return dataset_spec_to_yaml(parse_dataset_spec(text, name));
+  });
+  m.def("dataset_shard_count", [](const std::string& text) { return shard_count(parse_dataset_spec(text, "<spec>")); });
+  m.def("dataset_write_shard", [](const std::string& text, int k, const std::filesystem::path& out) {
+    const DatasetSpec spec = parse_dataset_spec(text, "<spec>");
+    ShardInfo info;
+    without_gil([&](const std::function<bool()>& cancelled) {
+      DatasetCallbacks cb;
+      cb.cancelled = cancelled;
+      info = write_shard(spec, k, out, cb);
+    });
+    return shard_dict(info);
+  });
+  m.def("dataset_verified_shard", [](const std::string& text, int k, const std::filesystem::path& out) -> py::object {
+    const DatasetSpec spec = parse_dataset_spec(text, "<spec>");
+    std::optional<ShardInfo> info;
+    {
+      py::gil_scoped_release release;
+      info = verified_shard(spec, k, out);
+    }
+    return info ? py::object(shard_dict(*info)) : py::object(py::none());
+  });
+  m.def("dataset_write_manifest", [](const std::string& text, const py::list& records, const std::filesystem::path& out) {
+    std::vector<ShardInfo> shards;
+    for (const py::handle h : records) shards.push_back(shard_of(h));
+    write_manifest(parse_dataset_spec(text, "<spec>"), shards, out);
   });
 }

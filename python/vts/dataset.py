@@ -65,7 +65,8 @@ def _make_shard(k: int, spec_text: str, out_dir: str) -> dict:
     # (fixed at the first scan in the process), so workers x threads = cores.
     try:
         from distributed import get_worker
-        n = getattr(get_worker(), "nthreads", 0)
+        w = get_worker()
+        n = w.state.nthreads if hasattr(w, "state") else w.nthreads
     except (ImportError, ValueError, AttributeError):
         n = 0
     if n:
