@@ -12,6 +12,7 @@ packages=(
   libassimp-dev libpng-dev xvfb xauth
   zlib1g-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio openimageio-tools
+  python3-distributed
 )
 
 missing=()
