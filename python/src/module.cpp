@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "common/parallel.h"
@@ -116,48 +117,17 @@ struct Arrays {
   }
 };
 
-// The profiles of a recording's arrays, for the writer and the tracker.
-// Arrays as numpy hands them over (any layout; converted once).
-struct InArrays {
-  F32 y, z, range, intensity, true_y, true_z;
-  U8 valid, true_valid;
-  F64 pose, time;
-};
-
 template <class A>
-A need(const py::dict& d, const char* key, std::int64_t rows, std::int64_t cols) {
-  if (!d.contains(key)) throw py::value_error(std::string("missing array '") + key + "'");
-  A a = A::ensure(d[key]);
-  if (!a) throw py::value_error(std::string("array '") + key + "' is not numeric");
+A need(const py::dict& d, const std::string& key, std::int64_t rows, std::int64_t cols) {
+  if (!d.contains(key)) throw py::value_error("missing array '" + key + "'");
+  A a = A::ensure(d[key.c_str()]);
+  if (!a) throw py::value_error("array '" + key + "' is not numeric");
   const bool shape_ok = cols < 0 ? (a.ndim() == 1 && a.shape(0) == rows)
                                  : (a.ndim() == 2 && a.shape(0) == rows && a.shape(1) == cols);
   if (!shape_ok)
-    throw py::value_error(std::string("array '") + key + "' has the wrong shape: expected (" + std::to_string(rows) +
+    throw py::value_error("array '" + key + "' has the wrong shape: expected (" + std::to_string(rows) +
                           (cols < 0 ? "" : ", " + std::to_string(cols)) + ")");
   return a;
-}
-
-Profile profile_of(const py::dict& d, std::int64_t r, std::int64_t rows, int cols, bool truth) {
-  Profile p;
-  p.resize(cols);
-  auto copy = [&](auto& dst, const auto& a) {
-    std::memcpy(dst.data(), a.data() + r * cols, cols * sizeof(dst[0]));
-  };
-  auto f32 = [&](const char* k) { return need<F32>(d, k, rows, cols); };
-  auto u8 = [&](const char* k) { return need<U8>(d, k, rows, cols); };
-  copy(p.y_mm, f32("y")), copy(p.z_mm, f32("z")), copy(p.valid, u8("valid"));
-  if (d.contains("range")) copy(p.range_mm, f32("range"));
-  else
-    for (int i = 0; i < cols; ++i) p.range_mm[i] = p.valid[i] ? std::hypot(p.y_mm[i], p.z_mm[i]) : 0.0f;
-  if (truth) copy(p.intensity, f32("intensity")), copy(p.true_y_mm, f32("true_y")), copy(p.true_z_mm, f32("true_z")), copy(p.true_valid, u8("true_valid"));
-  if (d.contains("pose")) {
-    const F64 q = need<F64>(d, "pose", rows, 7);
-    const double* v = q.data() + 7 * r;
-    p.world_from_sensor = pose_from_quat({v[0], v[1], v[2]}, Eigen::Quaterniond(v[3], v[4], v[5], v[6]).normalized());
-  }
-  if (d.contains("time")) p.time_s = need<F64>(d, "time", rows, -1).data()[r];
-  p.index = r;
-  return p;
 }
 
 std::pair<std::int64_t, int> shape_of(const py::dict& d) {
@@ -167,6 +137,54 @@ std::pair<std::int64_t, int> shape_of(const py::dict& d) {
     throw py::value_error("array 'y' must be 2-D (profiles, points) with at least one profile");
   return {y.shape(0), static_cast<int>(y.shape(1))};
 }
+
+// A recording's arrays as numpy hands them over (any dtype and layout),
+// converted and checked once, for the writer and the tracker; profile(r)
+// copies row r out. `prefix` "" reads the main channels with the pose and
+// time, "ref_" the reference's samples (they share the row's pose and time).
+struct InArrays {
+  std::int64_t rows = 0;
+  int cols = 0;
+  bool truth = false;
+  F32 y, z, range, intensity, true_y, true_z;
+  U8 valid, true_valid;
+  F64 pose, time;
+
+  InArrays(const py::dict& d, const std::string& prefix, bool with_truth) : truth(with_truth) {
+    std::tie(rows, cols) = shape_of(d);
+    y = need<F32>(d, prefix + "y", rows, cols), z = need<F32>(d, prefix + "z", rows, cols);
+    valid = need<U8>(d, prefix + "valid", rows, cols);
+    if (d.contains(prefix + "range")) range = need<F32>(d, prefix + "range", rows, cols);
+    if (truth)
+      intensity = need<F32>(d, "intensity", rows, cols), true_y = need<F32>(d, "true_y", rows, cols),
+      true_z = need<F32>(d, "true_z", rows, cols), true_valid = need<U8>(d, "true_valid", rows, cols);
+    if (!prefix.empty()) return;
+    if (d.contains("pose")) pose = need<F64>(d, "pose", rows, 7);
+    if (d.contains("time")) time = need<F64>(d, "time", rows, -1);
+  }
+
+  bool has_pose() const { return static_cast<bool>(pose); }
+
+  Profile profile(std::int64_t r) const {
+    Profile p;
+    p.resize(cols);
+    auto copy = [&](auto& dst, const auto& a) {
+      std::memcpy(dst.data(), a.data() + r * cols, cols * sizeof(dst[0]));
+    };
+    copy(p.y_mm, y), copy(p.z_mm, z), copy(p.valid, valid);
+    if (range) copy(p.range_mm, range);
+    else
+      for (int i = 0; i < cols; ++i) p.range_mm[i] = p.valid[i] ? std::hypot(p.y_mm[i], p.z_mm[i]) : 0.0f;
+    if (truth) copy(p.intensity, intensity), copy(p.true_y_mm, true_y), copy(p.true_z_mm, true_z), copy(p.true_valid, true_valid);
+    if (pose) {
+      const double* v = pose.data() + 7 * r;
+      p.world_from_sensor = pose_from_quat({v[0], v[1], v[2]}, Eigen::Quaterniond(v[3], v[4], v[5], v[6]).normalized());
+    }
+    if (time) p.time_s = time.data()[r];
+    p.index = r;
+    return p;
+  }
+};
 
 // A scan job's sink writing straight into the numpy arrays.
 struct ArraySink final : ScanSink {
@@ -472,16 +490,17 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     info.error_model = d.contains("true_y");
     info.scanner.ideal = !info.error_model;
     info.has_reference = d.contains("ref_y");
+    const InArrays main_arrays(d, "", info.error_model);
+    std::optional<InArrays> ref_arrays;
+    if (info.has_reference) ref_arrays.emplace(d, "ref_", false);
     ProfileExrWriter writer(path, info);
     for (std::int64_t r = 0; r < rows; ++r) {
-      const Profile p = profile_of(d, r, rows, cols, info.error_model);
-      if (!info.has_reference) {
+      const Profile p = main_arrays.profile(r);
+      if (!ref_arrays) {
         writer.write(p);
         continue;
       }
-      py::dict refd;
-      refd["y"] = d["ref_y"], refd["z"] = d["ref_z"], refd["range"] = d["ref_range"], refd["valid"] = d["ref_valid"];
-      const Profile ref = profile_of(refd, r, rows, cols, false);
+      const Profile ref = ref_arrays->profile(r);
       writer.write(p, &ref);
     }
     writer.finish();
@@ -512,11 +531,11 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
 
   m.def("_track_recording", [](const py::dict& d, const std::string& joint, const std::string& yaml,
                                const std::string& name, bool independent) {
-    const auto [rows, cols] = shape_of(d);
+    const InArrays arrays(d, "", false);
     TrackInput input;
-    input.profiles.reserve(static_cast<std::size_t>(rows));
-    for (std::int64_t r = 0; r < rows; ++r) input.profiles.push_back(profile_of(d, r, rows, cols, false));
-    input.csv = !d.contains("pose");
+    input.profiles.reserve(static_cast<std::size_t>(arrays.rows));
+    for (std::int64_t r = 0; r < arrays.rows; ++r) input.profiles.push_back(arrays.profile(r));
+    input.csv = !arrays.has_pose();
     const tracker::TrackerParams params = params_of(joint, yaml, name);
     TrackRecordingOptions options;
     options.independent = independent;

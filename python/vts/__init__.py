@@ -166,12 +166,16 @@ def _matrices(pose: np.ndarray) -> np.ndarray:
     return m
 
 
-def _scan_of(d: dict) -> Scan:
+def _scan_of(d: dict, cell: Optional[Cell] = None) -> Scan:
+    """A Scan of the arrays; its track points from `cell` (the cell scanned),
+    else from the recording's scene text."""
     s = Scan(**d)
-    try:
-        c = parse_scene(s.scene_text, s.scene_name) if s.scene_text else None
-    except (SceneError, ValueError, RuntimeError):
-        c = None  # e.g. a mesh file that is not where the recording says
+    c = cell
+    if c is None:
+        try:
+            c = parse_scene(s.scene_text, s.scene_name) if s.scene_text else None
+        except (SceneError, ValueError, RuntimeError):
+            c = None  # e.g. a mesh file that is not where the recording says
     tp = np.full((len(s), 2), np.nan)
     if c is not None and c.joint is not None:
         for r, m in enumerate(_matrices(s.pose)):
@@ -204,7 +208,7 @@ def scan(cell: Union[Cell, str], *, profiles: Optional[int] = None, seed: int = 
         c.look_from(standoff_mm)
     if profiles is not None:
         c.path.profiles = int(profiles)
-    return _scan_of(_vts._scan(c, int(seed), source, bool(reference), int(batch)))
+    return _scan_of(_vts._scan(c, int(seed), source, bool(reference), int(batch)), c)
 
 
 def read_exr(path: Union[str, os.PathLike]) -> Scan:
