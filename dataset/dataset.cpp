@@ -33,11 +33,8 @@ class SceneSink final : public ScanSink {
   }
   void write(const ScanBatch& batch) override {
     exr_.write(batch);
-    for (std::size_t k = 0; k < batch.profiles.size(); ++k) {
-      int n = 0;
-      for (const std::uint8_t v : batch.profiles[k].valid) n += v != 0;
-      valid_points[static_cast<std::size_t>(batch.first) + k] = n;
-    }
+    for (std::size_t k = 0; k < batch.profiles.size(); ++k)
+      valid_points[static_cast<std::size_t>(batch.first) + k] = batch.profiles[k].valid_count();
   }
   void finish() override { exr_.finish(); }
   std::vector<int> valid_points;
