@@ -34,7 +34,11 @@ int run_serve(const ServeOptions& o) {
     const auto colon = o.listen.rfind(':');
     if (colon == std::string::npos) cli::bad("--listen", o.listen, "expected ADDRESS:PORT, e.g. 127.0.0.1:5170");
     so.address = o.listen.substr(0, colon);
-    so.port = static_cast<int>(cli::parse_integer("--listen", o.listen.substr(colon + 1), 0, 65535));
+    try {
+      so.port = static_cast<int>(cli::parse_integer("--listen", o.listen.substr(colon + 1), 0, 65535));
+    } catch (const cli::UsageError&) {
+      cli::bad("--listen", o.listen, "expected ADDRESS:PORT with a port from 0 to 65535");
+    }
   }
   if (!o.port.empty()) so.port = static_cast<int>(cli::parse_integer("--port", o.port, 0, 65535));
   if (!o.max_clients.empty()) so.max_clients = static_cast<int>(cli::parse_integer("--max-clients", o.max_clients, 1, 4096));
