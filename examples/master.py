@@ -732,6 +732,99 @@ class Result:
         self.world_from_workpiece = []
 
 
+class JointIntake:
+    """The joint data into the seam object, as Master::run's poll does: the
+    gate, the refit after refit_after_rejections consistent rejections, and
+    the two surfaces' directions from break points 0 and 4 (for
+    re-calibration)."""
+
+    def __init__(self, P, obj, run, plate_normal, wall_normal):
+        self.P, self.obj, self.run = P, obj, run
+        self.np, self.nw = plate_normal, wall_normal
+        self.rejected = []
+        self.plate_dir = [0.0, 0.0, 0.0]
+        self.wall_dir = [0.0, 0.0, 0.0]
+        self.last_accepted = list(run.start_point)
+
+    def take(self, j):
+        """Adds joint data j (protocol dict); False if it was rejected."""
+        P, obj, run, rejected = self.P, self.obj, self.run, self.rejected
+        tp = [float(x) for x in j["track_point_world"]]
+        if not obj.add(tp, P.fit_window_mm, P.gate_mm, P.gate_after):
+            run.rejected_points += 1
+            rejected.append(tp)
+            if len(rejected) < P.refit_after_rejections:
+                return False
+            span = v_sub(rejected[-1], rejected[0])
+            consistent = norm(span) > 1e-6
+            for p in rejected:
+                r = v_sub(p, rejected[0])
+                sn = normalized(span)
+                consistent = consistent and norm(v_sub(r, v_scale(dot(r, sn), sn))) <= P.gate_mm
+            if not consistent:
+                del rejected[0]
+                return False
+            sn = normalized(span)
+            u = v_neg(sn) if dot(sn, obj.direction()) < 0.0 else sn
+            c = rejected[0]
+            obj.reset(v_add(c, v_scale(dot(v_sub(run.start_point, c), u), u)), u)
+            for p in rejected:
+                obj.add(p, P.fit_window_mm, INF, P.gate_after)
+            run.track_points.extend(rejected[:-1])
+            run.points += len(rejected) - 1
+            run.rejected_points -= len(rejected)
+            run.refits += 1
+            rejected.clear()
+        else:
+            rejected.clear()
+        run.points += 1
+        run.track_points.append(tp)
+        self.last_accepted = tp
+        wfs = Pose.from_json(j["world_from_sensor"])
+        bps = j.get("break_points_sensor") or []
+        np_, nw = self.np, self.nw
+        for b in (0, 4):
+            if b >= len(bps) or bps[b] is None:
+                continue
+            yz = bps[b]
+            u = v_sub(wfs.apply([0.0, float(yz[0]), float(yz[1])]), tp)
+            if norm(u) < 3.0:
+                continue
+            un = normalized(u)
+            if abs(dot(un, nw)) > abs(dot(un, np_)):
+                self.plate_dir = v_add(self.plate_dir, v_neg(un) if dot(un, nw) < 0.0 else un)
+            else:
+                self.wall_dir = v_add(self.wall_dir, v_neg(un) if dot(un, np_) < 0.0 else un)
+        return True
+
+
+def seam_geometry(P, believed, plan, recalibrated):
+    """A seam of the plan as the master sees it before welding it: planned
+    start (world), unit direction, length, the two face normals (world), and
+    the search margin (Master::run's start of a seam)."""
+    step = P.speed_mm_s * (1.0 / P.control_rate_hz)
+    s_plan, e_plan = believed.apply(plan["start_mm"]), believed.apply(plan["end_mm"])
+    d_plan = normalized(v_sub(e_plan, s_plan))
+    length = norm(v_sub(e_plan, s_plan))
+    np_, nw = mat_vec(believed.R, plan["plate_normal"]), mat_vec(believed.R, plan["wall_normal"])
+    # After re-calibration the start is known to well under a profile step:
+    # put it halfway between two profiles' laser planes.
+    margin = P.search_margin_recalibrated_mm + 0.5 * step if recalibrated else P.search_margin_mm
+    return s_plan, d_plan, length, np_, nw, margin
+
+
+def recalibrated_pose(believed, plan, run, obj, intake, np_, nw):
+    """The workpiece pose re-estimated from a welded seam: its start and end
+    moved onto the seam object's line, the faces' measured normals."""
+    d = obj.direction()
+
+    def on_line(p):
+        return v_add(run.line_point, v_scale(dot(v_sub(p, run.line_point), d), d))
+
+    return recalibrate(believed, plan, on_line(run.start_point), on_line(run.end_point),
+                       surface_normal(d, intake.plate_dir, np_), surface_normal(d, intake.wall_dir, nw))
+
+
 def run_master(sensor, P, world_from_workpiece, seams, log=None):
     """tracker::Master::run against a ProtocolSensor. seams: the plan
     (dicts with start_mm, end_mm, plate_normal, wall_normal; workpiece frame)."""
@@ -755,11 +848,7 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
     for k, plan in enumerate(seams):
         res.world_from_workpiece.append(believed.copy())
         run = SeamRun()
-        s_plan, e_plan = believed.apply(plan["start_mm"]), believed.apply(plan["end_mm"])
-        d_plan = normalized(v_sub(e_plan, s_plan))
-        length = norm(v_sub(e_plan, s_plan))
-        np_, nw = mat_vec(believed.R, plan["plate_normal"]), mat_vec(believed.R, plan["wall_normal"])
-        margin = P.search_margin_recalibrated_mm + 0.5 * step if recalibrated else P.search_margin_mm
+        s_plan, d_plan, length, np_, nw, margin = seam_geometry(P, believed, plan, recalibrated)
 
         tool.R = tool_rotation(d_plan, np_, nw)
         begin = v_sub(s_plan, v_scale(margin + P.lookahead_mm, d_plan))
@@ -814,59 +903,18 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
         obj = SeamObject()
         obj.reset(run.start_point, d_plan)
         st = {"last_index": -1, "stop_point": None, "last_accepted": list(run.start_point),
-              "end_requested": False, "plate_dir": [0.0, 0.0, 0.0], "wall_dir": [0.0, 0.0, 0.0]}
-        rejected = []
+              "end_requested": False}
+        intake = JointIntake(P, obj, run, np_, nw)
 
         def poll():
             j = sensor.latest_joint(state["now"])
             if j is None or j["profile_index"] == st["last_index"]:
                 return
             st["last_index"] = j["profile_index"]
-            tp = [float(x) for x in j["track_point_world"]]
-            if not obj.add(tp, P.fit_window_mm, P.gate_mm, P.gate_after):
-                run.rejected_points += 1
-                rejected.append(tp)
-                if len(rejected) < P.refit_after_rejections:
-                    return
-                span = v_sub(rejected[-1], rejected[0])
-                consistent = norm(span) > 1e-6
-                for p in rejected:
-                    r = v_sub(p, rejected[0])
-                    sn = normalized(span)
-                    consistent = consistent and norm(v_sub(r, v_scale(dot(r, sn), sn))) <= P.gate_mm
-                if not consistent:
-                    del rejected[0]
-                    return
-                sn = normalized(span)
-                u = v_neg(sn) if dot(sn, obj.direction()) < 0.0 else sn
-                c = rejected[0]
-                obj.reset(v_add(c, v_scale(dot(v_sub(run.start_point, c), u), u)), u)
-                for p in rejected:
-                    obj.add(p, P.fit_window_mm, INF, P.gate_after)
-                run.track_points.extend(rejected[:-1])
-                run.points += len(rejected) - 1
-                run.rejected_points -= len(rejected)
-                run.refits += 1
-                rejected.clear()
-            else:
-                rejected.clear()
-            run.points += 1
-            run.track_points.append(tp)
+            if not intake.take(j):
+                return
+            tp = intake.last_accepted
             st["last_accepted"] = tp
-            wfs = Pose.from_json(j["world_from_sensor"])
-            bps = j.get("break_points_sensor") or []
-            for b in (0, 4):
-                if b >= len(bps) or bps[b] is None:
-                    continue
-                yz = bps[b]
-                u = v_sub(wfs.apply([0.0, float(yz[0]), float(yz[1])]), tp)
-                if norm(u) < 3.0:
-                    continue
-                un = normalized(u)
-                if abs(dot(un, nw)) > abs(dot(un, np_)):
-                    st["plate_dir"] = v_add(st["plate_dir"], v_neg(un) if dot(un, nw) < 0.0 else un)
-                else:
-                    st["wall_dir"] = v_add(st["wall_dir"], v_neg(un) if dot(un, np_) < 0.0 else un)
             if (not st["end_requested"] and sensor.state() == "tracking"
                     and obj.arc(tp) >= length - P.end_margin_mm):
                 sensor.look_for_end()
@@ -941,13 +989,7 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
         finish()
 
         if P.recalibrate and run.start_found and run.end_found and not run.failure:
-            d = obj.direction()
-
-            def on_line(p):
-                return v_add(run.line_point, v_scale(dot(v_sub(p, run.line_point), d), d))
-
-            believed = recalibrate(believed, plan, on_line(run.start_point), on_line(run.end_point),
-                                   surface_normal(d, st["plate_dir"], np_), surface_normal(d, st["wall_dir"], nw))
+            believed = recalibrated_pose(believed, plan, run, obj, intake, np_, nw)
             recalibrated = True
     tick(-1, "done", 0.0)
     return res
@@ -1136,8 +1178,277 @@ def main(argv=None):
     return 0 if summ["completed"] else 1
 
 
-def run_realtime(client, poll_s):
-    raise NotImplementedError("realtime mode")
+# ---------------------------------------------------------------------------
+# Real time (vts serve --realtime)
+# ---------------------------------------------------------------------------
+
+class PoseSampler:
+    """The evaluation's eye, not the master's: a second connection (an
+    observer) that samples the TCP (robot.pose) every period_s, so that the
+    tracking error can be measured along the weld as in lockstep."""
+
+    def __init__(self, host, port, period_s=0.05):
+        import threading
+        self.samples = []  # (time_s, tcp)
+        self._period = period_s
+        self._stop = threading.Event()
+        self._client = vts_client.Client(host, port, role="observe", name="master.py-sampler")
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        next_t = time.monotonic()
+        while not self._stop.is_set():
+            try:
+                r = self._client.robot_pose()
+            except (OSError, vts_client.VtsError):
+                return
+            self.samples.append((float(r["time_s"]), [float(x) for x in r["world_from_tool"]["t"]]))
+            next_t += self._period
+            self._stop.wait(max(0.0, next_t - time.monotonic()))
+
+    def stop(self):
+        self._stop.set()
+        self._thread.join()
+        self._client.close()
+
+
+def servo_and_settle(client, pose, timeout_s=2.0):
+    """robot.servo, then wait until the robot reports the TCP there: in real
+    time the server applies a servo pose at its next tick, and a robot.move
+    sent before that starts from the old TCP."""
+    client.servo(pose.to_json())
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        r = client.robot_pose()
+        if not r["moving"] and norm(v_sub([float(x) for x in r["world_from_tool"]["t"]], pose.t)) < 1e-6:
+            return True
+        time.sleep(0.01)
+    return False
+
+
+class RealtimeWait:
+    """Events from the controlling connection, with a deadline."""
+
+    def __init__(self, client):
+        self.c = client
+
+    def until(self, names, timeout_s):
+        """The first event named in `names` within timeout_s (wall clock), or None."""
+        deadline = time.monotonic() + timeout_s
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return None
+            ev = self.c.next_event(left)
+            if ev is None:
+                return None
+            if ev.get("event") in names:
+                return ev
+
+
+def run_realtime(client, poll_s, seg_mm=5.0):
+    """The experiment in real time: the robot moves on its own (queued linear
+    moves at the weld speed, robot.move), the sensor takes profiles at its
+    rate whatever the master does, and the master asks for the joint data
+    (sensor.joints) every poll_s seconds, as the paper's master did about
+    every other second; start, end and loss come as events. Per seam: jump
+    to the search pose (robot.servo), laser on, one search move along the
+    plan until start-found, a move to the start point, then moves of seg_mm
+    along the seam object, queued as far as the joint data reach; after
+    end-found the moves up to the end point, laser off. The workpiece pose is
+    re-calibrated between seams as in lockstep. Returns (summary, note) with
+    the profile rate the sensor held."""
+    wall0 = time.monotonic()
+    job = client.sim_job()
+    truth = client.sim_truth()
+    P = Params(job.get("master"))
+    plan = plan_from_job(job)
+    believed = Pose.from_json(job["world_from_workpiece"])
+    client.subscribe(events=True)
+    wait = RealtimeWait(client)
+    sampler = PoseSampler(client.host, client.port)
+    res = Result()
+    recalibrated = False
+    speed = P.speed_mm_s
+    laser_s = 0.0
+    laser_profiles = 0
+    polls = 0
+    last_index = -1  # of the joint data read so far (sensor.joints after_index)
+
+    def now_and_profiles():
+        t = client.time()["time_s"]
+        return t, client.sensor_state()["counters"]["profiles"]
+
+    try:
+        for k, seam in enumerate(plan):
+            res.world_from_workpiece.append(believed.copy())
+            run = SeamRun()
+            s_plan, d_plan, length, np_, nw, margin = seam_geometry(P, believed, seam, recalibrated)
+            R0 = tool_rotation(d_plan, np_, nw)
+            begin = v_sub(s_plan, v_scale(margin + P.lookahead_mm, d_plan))
+            servo_and_settle(client, Pose(R0, begin))
+
+            on = client.laser_on()
+            if not on.get("confirmed", False):
+                run.failure = "the laser did not come on: " + str(on.get("error", ""))
+                res.seams.append(run)
+                continue
+            t_on, p_on = now_and_profiles()
+            client.events()  # nothing from before the laser counts
+
+            found = False
+            for attempt in range(P.max_search_retries + 1):
+                client.search_start()
+                limit = 2.0 * margin + P.search_extra_mm
+                client.move(Pose(R0, v_add(begin, v_scale(limit, d_plan))).to_json(), speed)
+                ev = wait.until({"start-found", "start-behind", "stream-ended", "move-done"}, limit / speed + 10.0)
+                tcp = client.robot_pose()["world_from_tool"]["t"]
+                run.search_mm += max(0.0, dot(v_sub(tcp, begin), d_plan))
+                name = ev.get("event") if ev else None
+                if name == "start-found":
+                    found = True
+                    run.start_point = [float(x) for x in ev["point"]]
+                    break
+                if name == "stream-ended":
+                    run.failure = "the sensor stopped during the search: " + str(ev.get("error", ""))
+                    break
+                if name == "start-behind":
+                    client.stop()
+                    begin = v_sub(begin, v_scale(P.search_margin_mm, d_plan))
+                    servo_and_settle(client, Pose(R0, begin))
+                    if attempt == P.max_search_retries:
+                        run.failure = "the start point lies behind every search"
+                        break
+                    continue
+                run.failure = "no start point within " + cpp_to_string(limit) + " mm of search"
+                break
+            t_start_found = client.time()["time_s"]
+            if not found:
+                client.stop()
+                client.laser_off()
+                t_off, p_off = now_and_profiles()
+                laser_s += t_off - t_on
+                laser_profiles += p_off - p_on
+                res.seams.append(run)
+                continue
+            run.start_found = True
+            client.start_tracking()
+            # As the lockstep master's first poll: from the latest joint data
+            # on (not the search's, nor the previous seam's).
+            latest = client.joint()
+            last_index = int(latest["profile_index"]) - 1 if latest else last_index
+
+            obj = SeamObject()
+            obj.reset(run.start_point, d_plan)
+            intake = JointIntake(P, obj, run, np_, nw)
+
+            def travel_direction():
+                return obj.direction() if obj.max_arc() >= P.direction_span_mm else d_plan
+
+            # The approach: on from where the search stopped to the start point.
+            w0 = obj.at(0.0, P.fit_window_mm)
+            client.move(Pose(tool_rotation(d_plan, np_, nw), w0).to_json(), speed)
+            run.weld_start = w0
+            last_target = w0
+            queued_s = 0.0
+            stop_point = None
+            end_requested = False
+            laser_on = True
+            final_queued = False
+            next_poll = time.monotonic() + poll_s
+            give_up = time.monotonic() + (P.lookahead_mm + 2.0 * length + 50.0) / speed + 30.0
+            while True:
+                poll_now = False
+                ev = client.next_event(max(0.0, next_poll - time.monotonic()))
+                name = ev.get("event") if ev else None
+                if stop_point is None and name in ("end-found", "seam-lost", "stream-ended"):
+                    if name == "end-found":
+                        run.end_found = True
+                        run.end_point = [float(x) for x in ev["point"]]
+                        stop_point = run.end_point
+                    elif name == "seam-lost":
+                        run.lost = True
+                        stop_point = intake.last_accepted
+                    else:
+                        run.failure = "the sensor stopped while tracking: " + str(ev.get("error", ""))
+                        stop_point = intake.last_accepted
+                    poll_now = True
+                elif name == "move-done":
+                    if final_queued:
+                        break
+                    poll_now = True  # the torch caught up with the data it was given
+                if not poll_now and time.monotonic() < next_poll:
+                    continue
+                polls += 1
+                got = client.joints(after_index=last_index)
+                for j in got.get("joints", []):
+                    last_index = max(last_index, int(j["profile_index"]))
+                    if not intake.take(j):
+                        continue
+                    if (not end_requested and stop_point is None
+                            and obj.arc(intake.last_accepted) >= length - P.end_margin_mm
+                            and client.sensor_state()["state"] == "tracking"):
+                        client.look_for_end()
+                        end_requested = True
+                if stop_point is not None and laser_on:
+                    client.laser_off()
+                    laser_on = False
+                    t_off, p_off = now_and_profiles()
+                    laser_s += t_off - t_on
+                    laser_profiles += p_off - p_on
+                # Queue the torch along the seam object as far as the data reach.
+                s_stop = obj.arc(stop_point) if stop_point is not None else INF
+                target = s_stop if stop_point is not None else obj.max_arc() - 2.0
+                queued = 0
+                while queued_s < target - 1e-9 and queued < 32:
+                    s = min(queued_s + seg_mm, target)
+                    last_target = obj.at(s, P.fit_window_mm)
+                    client.move(Pose(tool_rotation(travel_direction(), np_, nw), last_target).to_json(), speed,
+                                queue=True)
+                    queued_s = s
+                    queued += 1
+                if stop_point is not None and queued_s >= s_stop - 1e-9:
+                    if not final_queued and queued == 0 and not client.robot_pose()["moving"]:
+                        break
+                    final_queued = True
+                next_poll = time.monotonic() + poll_s
+                if time.monotonic() > give_up:
+                    run.failure = "no end of seam in time"
+                    break
+            if laser_on:
+                client.laser_off()
+                t_off, p_off = now_and_profiles()
+                laser_s += t_off - t_on
+                laser_profiles += p_off - p_on
+            t_weld_end = client.time()["time_s"]
+            run.weld_end = last_target
+            run.welded_mm = queued_s
+            run.line_direction = obj.direction()
+            run.line_point = obj.centroid()
+            res.seams.append(run)
+            # The weld samples: the TCP on the seam object from its start on.
+            for (t, tcp) in list(sampler.samples):
+                if t_start_found <= t <= t_weld_end and 0.0 <= obj.arc(tcp) <= queued_s + 1e-6:
+                    res.samples.append((t, k, "weld", tcp))
+
+            if P.recalibrate and run.start_found and run.end_found and not run.failure:
+                believed = recalibrated_pose(believed, seam, run, obj, intake, np_, nw)
+                recalibrated = True
+        sim_time, profiles = now_and_profiles()
+    finally:
+        sampler.stop()
+    metrics = evaluate([SeamTruth(s) for s in truth["seams"]], res)
+    summ = summary(job, truth, metrics, profiles, sim_time, time.monotonic() - wall0)
+    summ["realtime"] = {"polls": polls, "poll_s": poll_s, "laser_on_s": laser_s, "laser_profiles": laser_profiles,
+                        "laser_rate_hz": laser_profiles / laser_s if laser_s > 0 else 0.0,
+                        "rate_hz_overall": profiles / sim_time if sim_time > 0 else 0.0,
+                        "tcp_samples": len(sampler.samples)}
+    note = ("real time: the sensor held %.2f Hz with the laser on (%d profiles in %.1f s; nominal %.0f Hz), "
+            "%.2f Hz over the whole run; %d polls of the joint data, every %.1f s"
+            % (summ["realtime"]["laser_rate_hz"], laser_profiles, laser_s, summ["rate_hz"],
+               summ["realtime"]["rate_hz_overall"], polls, poll_s))
+    return summ, note
 
 
 if __name__ == "__main__":
