@@ -205,3 +205,23 @@ def test_master_py_text_output():
     assert lines[0].startswith("master.py: box cell, workpiece displaced")
     assert lines[2].startswith("seam 1: search") and lines[3].startswith("seam 2: search")
     assert "failed" not in text and "profiles," in lines[4]
+
+
+@pytest.mark.skipif(os.environ.get("VTS_REALTIME_TESTS") != "1",
+                    reason="takes a minute of wall-clock time: set VTS_REALTIME_TESTS=1")
+def test_master_py_realtime():
+    """examples/master.py --realtime against `vts serve --realtime`: both
+    seams welded with the joint data polled every 2 s, the sensor at its
+    rate (20 Hz for mspot) while the laser is on."""
+    s = Server("--realtime", "--seed", "1")
+    try:
+        summ = json.loads(_master_py(s.port, "--realtime", "--json"))
+    finally:
+        s.stop()
+    assert summ["completed"] is True, summ
+    for m in summ["seams"]:
+        assert m["end_found"] and not m["failure"] and m["welded_mm"] > 140.0
+        assert m["max_error_mm"] < 0.3
+    rt = summ["realtime"]
+    assert abs(rt["laser_rate_hz"] - summ["rate_hz"]) < 0.05 * summ["rate_hz"]
+    assert rt["polls"] >= 10
