@@ -16,6 +16,7 @@
 #include "apps/vts_mesh.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
+#include "apps/vts_serve.h"
 #include "apps/vts_sim.h"
 #include "apps/vts_static.h"
 #include "apps/vts_track.h"
@@ -65,6 +66,8 @@ int run(int argc, char** argv) {
   CLI::App* export_cmd = vts::apps::add_export_command(app, export_exit);  // runs from its callback
   int dataset_exit = vts::cli::kExitOk;
   CLI::App* dataset = vts::apps::add_dataset_command(app, dataset_exit);  // runs from its callback
+  int serve_exit = vts::cli::kExitOk;
+  CLI::App* serve = vts::apps::add_serve_command(app, serve_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -92,6 +95,7 @@ int run(int argc, char** argv) {
   if (mesh->parsed()) return mesh_exit;
   if (export_cmd->parsed()) return export_exit;
   if (dataset->parsed()) return dataset_exit;
+  if (serve->parsed()) return serve_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

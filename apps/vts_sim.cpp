@@ -25,10 +25,9 @@ namespace fs = std::filesystem;
 using cli::bad;
 using Json = trackio::Json;
 
-struct SimOptions {
-  std::string speed, rate, seed, offset, rotation, source, sensor, material, out_dir, replay, threads;
+struct SimOptions : BoxOptions {
+  std::string out_dir, replay;
   std::string cell, scene, passes, first_pass, profiles;  // a multi-pass groove instead of the box
-  bool ideal = false;
   bool json = false;
 };
 
@@ -48,8 +47,10 @@ double parse_number(const std::string& option, const std::string& text, double l
   return v;
 }
 
+}  // namespace
+
 // --sensor, --material and --ideal onto the scanner (the box's and a groove cell's alike).
-void apply_sensor_options(const SimOptions& o, ScannerDesc& sc) {
+void apply_sensor_options(const BoxOptions& o, ScannerDesc& sc) {
   if (!o.sensor.empty()) {
     const auto preset = sensor_preset(o.sensor);
     if (!preset)
@@ -61,6 +62,42 @@ void apply_sensor_options(const SimOptions& o, ScannerDesc& sc) {
   sc.ideal = o.ideal;
 }
 
+SimSpec box_spec(const BoxOptions& o) {
+  SimSpec spec;
+  if (!o.speed.empty()) spec.speed_mm_s = parse_number("--speed", o.speed, 0.1, 500.0, "mm/s");
+  spec.seed = o.seed.empty() ? 1 : cli::parse_seed("--seed", o.seed);
+  spec.cell.seed = spec.seed;
+  if (!o.offset.empty()) spec.cell.offset_mm = parse_number("--offset", o.offset, 0.0, 20.0, "mm");
+  if (!o.rotation.empty()) spec.cell.rotation_deg = parse_number("--rotation", o.rotation, 0.0, 10.0, "degrees");
+  ScannerDesc& sc = spec.scanner;
+  apply_sensor_options(o, sc);
+  if (!o.rate.empty()) sc.rate_hz = parse_number("--rate", o.rate, 1.0, 10000.0, "Hz");
+  spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
+  spec.cell.standoff_mm = sim_standoff_mm(sc);
+  if (const std::string why = validate(spec.cell); !why.empty()) throw cli::UsageError("cell: " + why);
+  return spec;
+}
+
+void add_box_options(CLI::App* cmd, BoxOptions& o) {
+  cmd->add_option("--speed", o.speed, "Weld (and search) speed, mm/s, 0.1..500 (default 10)")->type_name("MM_PER_S");
+  cmd->add_option("--rate", o.rate, "Sensor profile rate, Hz, 1..10000 (default: the sensor's, 20 for mspot)")
+      ->type_name("HZ");
+  cmd->add_option("--seed", o.seed, "Seed of the workpiece displacement and the error model (default 1)")
+      ->type_name("S");
+  cmd->add_option("--offset", o.offset, "Largest workpiece translation from nominal, mm, 0..20 (default 10)")
+      ->type_name("MM");
+  cmd->add_option("--rotation", o.rotation, "Largest workpiece rotation from nominal, degrees, 0..10 (default 5)")
+      ->type_name("DEG");
+  cmd->add_option("--source", o.source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
+      ->type_name("raster|reference");
+  cmd->add_option("--sensor", o.sensor, "Sensor preset (see `vts sensors`), default mspot")->type_name("NAME");
+  cmd->add_option("--material", o.material, "Surface material preset, default matte-steel")->type_name("NAME");
+  cmd->add_flag("--ideal", o.ideal, "Error model off: ideal geometric profiles");
+  cmd->add_option("--threads", o.threads, cli::kThreadsHelp)->type_name("N");
+}
+
+namespace {
+
 // Everything checked before anything is created.
 struct SimPlan {
   SimSpec spec;
@@ -69,20 +106,8 @@ struct SimPlan {
 
 SimPlan plan_sim(const SimOptions& o) {
   SimPlan plan;
+  plan.spec = box_spec(o);
   SimSpec& spec = plan.spec;
-  if (!o.speed.empty()) spec.speed_mm_s = parse_number("--speed", o.speed, 0.1, 500.0, "mm/s");
-  spec.seed = o.seed.empty() ? 1 : cli::parse_seed("--seed", o.seed);
-  spec.cell.seed = spec.seed;
-  if (!o.offset.empty()) spec.cell.offset_mm = parse_number("--offset", o.offset, 0.0, 20.0, "mm");
-  if (!o.rotation.empty()) spec.cell.rotation_deg = parse_number("--rotation", o.rotation, 0.0, 10.0, "degrees");
-
-  ScannerDesc& sc = spec.scanner;
-  apply_sensor_options(o, sc);
-  if (!o.rate.empty()) sc.rate_hz = parse_number("--rate", o.rate, 1.0, 10000.0, "Hz");
-  spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
-  spec.cell.standoff_mm = sim_standoff_mm(sc);
-  if (const std::string why = validate(spec.cell); !why.empty()) throw cli::UsageError("cell: " + why);
-
   const std::string dir = o.out_dir.empty() ? std::string("sim") : o.out_dir;
   std::error_code ec;
   plan.out_dir = fs::absolute(dir, ec).lexically_normal();
@@ -208,20 +233,7 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
       "nominal pose, guided by the virtual sensor (start search, tracking, end of seam, re-calibration).\n"
       "Writes timeseries.csv, profiles.exr and tracking_error.png to --out-dir (docs/SIM.md).");
   cmd->option_defaults()->always_capture_default(false);
-  cmd->add_option("--speed", o->speed, "Weld (and search) speed, mm/s, 0.1..500 (default 10)")->type_name("MM_PER_S");
-  cmd->add_option("--rate", o->rate, "Sensor profile rate, Hz, 1..10000 (default: the sensor's, 20 for mspot)")
-      ->type_name("HZ");
-  cmd->add_option("--seed", o->seed, "Seed of the workpiece displacement and the error model (default 1)")
-      ->type_name("S");
-  cmd->add_option("--offset", o->offset, "Largest workpiece translation from nominal, mm, 0..20 (default 10)")
-      ->type_name("MM");
-  cmd->add_option("--rotation", o->rotation, "Largest workpiece rotation from nominal, degrees, 0..10 (default 5)")
-      ->type_name("DEG");
-  cmd->add_option("--source", o->source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
-      ->type_name("raster|reference");
-  cmd->add_option("--sensor", o->sensor, "Sensor preset (see `vts sensors`), default mspot")->type_name("NAME");
-  cmd->add_option("--material", o->material, "Surface material preset, default matte-steel")->type_name("NAME");
-  cmd->add_flag("--ideal", o->ideal, "Error model off: ideal geometric profiles");
+  add_box_options(cmd, *o);
   cmd->add_option("--out-dir", o->out_dir, "Directory for the outputs (created if missing), default sim/")
       ->type_name("DIR");
   cmd->add_option("--replay", o->replay,
@@ -229,7 +241,6 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
                   "move as it did then (same --speed); errors are measured against the cell of --seed, --offset and "
                   "--rotation, so give the recorded run's (no profiles.exr is written)")
       ->type_name("FILE.exr");
-  cmd->add_option("--threads", o->threads, cli::kThreadsHelp)->type_name("N");
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
   cmd->add_option("--cell", o->cell,
                   "Instead of the box: a multi-pass weld of a groove cell (vgroove-thick, bevel-thick, "

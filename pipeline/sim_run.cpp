@@ -33,14 +33,14 @@ void get(std::istream& in, T& v) { in.read(reinterpret_cast<char*>(&v), sizeof v
 
 }  // namespace
 
-SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
-  SimRun run;
+SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
+  SimRig rig;
+  SimRun& run = rig.run;
   run.cell = build_sim_cell(spec.cell);
   run.scanner = spec.scanner;
   run.scanner.tool_from_laser = run.cell.tool_from_laser;
   if (const std::string why = validate(run.scanner); !why.empty()) throw std::invalid_argument("scanner: " + why);
 
-  std::unique_ptr<ProfileSource> source;
   std::unique_ptr<tk::ProfileStream> stream;
   if (!spec.replay.empty()) {
     auto rec = RecordedProfileStream::open(spec.replay);  // throws ExrError naming the file
@@ -49,18 +49,25 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
     stream = std::move(rec);
     run.source_name = "replay";
   } else {
-    source = make_source(spec.source, run.scanner, run.cell.mesh);
-    auto vs = std::make_unique<VirtualProfileStream>(*source, spec.seed);
+    rig.source = make_source(spec.source, run.scanner, run.cell.mesh);
+    auto vs = std::make_unique<VirtualProfileStream>(*rig.source, spec.seed);
     if (record) vs->record = record;
     stream = std::move(vs);
     run.source_name = std::string(to_string(spec.source));
   }
-  tk::SensorUnit sensor(std::move(stream), sim_tracker_params(run.scanner, spec.cell.standoff_mm));
-  tk::Master master(sim_master_params(run.cell, spec.speed_mm_s, run.scanner.rate_hz));
-  run.result = master.run(sensor, run.cell.nominal_world_from_workpiece, run.cell.plan);
+  rig.sensor = std::make_unique<tk::SensorUnit>(std::move(stream), sim_tracker_params(run.scanner, spec.cell.standoff_mm));
+  rig.master = sim_master_params(run.cell, spec.speed_mm_s, run.scanner.rate_hz);
+  return rig;
+}
+
+SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
+  SimRig rig = make_sim_rig(spec, record);
+  SimRun& run = rig.run;
+  tk::Master master(rig.master);
+  run.result = master.run(*rig.sensor, run.cell.nominal_world_from_workpiece, run.cell.plan);
   run.metrics = evaluate(run.cell, run.result);
-  run.profiles = sensor.counters().profiles;
-  return run;
+  run.profiles = rig.sensor->counters().profiles;
+  return std::move(run);
 }
 
 bool SimRun::completed() const {

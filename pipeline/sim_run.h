@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,10 +51,22 @@ struct SimRun {
   double rotation_deg() const;
 };
 
-// Runs the experiment; `record` sees every measured profile the virtual
-// sensor takes (not on a replay). Throws std::invalid_argument ("scanner:
-// ...") for an unusable scanner, ExrError for a bad recording, and as
-// make_source.
+// The experiment's set-up without its master: the cell, the sensor unit
+// (tracker + sequence) over the virtual sensor or the recording, and the
+// master's parameters. run_sim and `vts serve` (server/host.h) build it
+// alike. `record` sees every measured profile the virtual sensor takes (not
+// on a replay). Throws std::invalid_argument ("scanner: ...") for an unusable
+// scanner, ExrError for a bad recording, and as make_source.
+struct SimRig {
+  SimRun run;  // cell, scanner and source_name set; no result yet
+  std::unique_ptr<ProfileSource> source;  // empty on a replay
+  std::unique_ptr<tracker::SensorUnit> sensor;
+  tracker::MasterParams master;
+};
+SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&)>& record = {});
+
+// Runs the experiment (make_sim_rig, the master, the evaluation); throws as
+// make_sim_rig.
 SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record = {});
 
 // timeseries.csv (docs/SIM.md): time, torch pose, true seam point, errors.

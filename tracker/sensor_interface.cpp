@@ -96,9 +96,12 @@ bool SensorUnit::take(std::int64_t index, double time_s, const Pose3& world_from
     j.track_point_world = obs.track_point_world;
     j.gap_mm = result_.gap_mm;
     j.angle_deg = result_.angle_deg;
+    j.confidence = result_.confidence;
     latest_ = j;
   }
-  if (auto e = sequence_.update(obs)) events.push_back(*e);
+  const std::optional<Event> e = sequence_.update(obs);
+  if (e) events.push_back(*e);
+  if (on_profile) on_profile(profile_, result_, obs.joint ? &*latest_ : nullptr, e);
   return true;
 }
 

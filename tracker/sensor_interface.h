@@ -12,6 +12,7 @@
 // on it at tool_from_sensor (fixed).
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -66,6 +67,7 @@ struct JointData {
   Eigen::Vector3d track_point_world = Eigen::Vector3d::Zero();   // mm
   double gap_mm = kNotMeasured;
   double angle_deg = kNotMeasured;
+  double confidence = 0.0;  // TrackResult::confidence of the reading
 };
 
 // The command set. Commands answer at once; profiles are taken in advance(),
@@ -125,6 +127,12 @@ class SensorUnit final : public SensorInterface {
   const SensorProfile& last_profile() const { return profile_; }
   const TrackResult& last_result() const { return result_; }
   ProfileStream& stream() { return *stream_; }
+
+  // Called at the end of every profile taken, with its tracker result, the
+  // joint data it produced (null when it was not accepted) and the alert it
+  // raised: for a server's per-profile pushes, joint queues and event times.
+  // May be empty.
+  std::function<void(const SensorProfile&, const TrackResult&, const JointData*, std::optional<Event>)> on_profile;
 
  private:
   bool take(std::int64_t index, double time_s, const Pose3& world_from_tool, std::vector<Event>& events);

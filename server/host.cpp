@@ -1,0 +1,404 @@
+#include "server/host.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "common/version.h"
+#include "sensor/sim_cell.h"
+
+namespace vts::server {
+namespace {
+
+namespace tk = vts::tracker;
+
+Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+Json vec2(const tk::Vec2& v) { return Json::array({v.x(), v.y()}); }
+
+Json event_json(tk::Event e, double time_s) {
+  Json j;
+  j["event"] = std::string(tk::to_string(e));
+  j["time_s"] = time_s;
+  return j;
+}
+
+Json profile_json(const tk::SensorProfile& p, const tk::TrackResult& r) {
+  Json prof;
+  prof["index"] = p.index;
+  prof["time_s"] = p.time_s;
+  prof["world_from_sensor"] = to_json(p.world_from_sensor);
+  Json y = Json::array(), z = Json::array(), v = Json::array();
+  for (std::size_t i = 0; i < p.y_mm.size(); ++i) {
+    const bool ok = i < p.valid.size() && p.valid[i];
+    y.push_back(ok ? static_cast<double>(p.y_mm[i]) : 0.0);
+    z.push_back(ok ? static_cast<double>(p.z_mm[i]) : 0.0);
+    v.push_back(ok ? 1 : 0);
+  }
+  prof["y_mm"] = std::move(y);
+  prof["z_mm"] = std::move(z);
+  prof["valid"] = std::move(v);
+  prof["status"] = std::string(tk::to_string(r.status));
+  prof["reason"] = r.reason;
+  prof["confidence"] = r.confidence;
+  return prof;
+}
+
+struct Failed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+struct NotController : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+struct WrongMode : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace
+
+CellHost::CellHost(const HostOptions& options)
+    : options_(options), rig_(make_sim_rig(options.sim)), step_events_(Json::array()) {
+  // The robot starts where the master's first move will take it from: the
+  // nominal workpiece origin, 200 mm up, torch down.
+  Pose3 home = Pose3::Identity();
+  home.translation() = rig_.run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
+  home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+  robot_ = PerfectRobot(home);
+  rig_.sensor->on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,
+                                   std::optional<tk::Event> e) {
+    if (j) {
+      Json jj = joint_json(*j);
+      joints_.push_back(jj);
+      while (joints_.size() > kJointsHeld) {
+        joints_dropped_index_ = joints_.front()["profile_index"].get<std::int64_t>();
+        joints_.pop_front();
+      }
+      if (publish && subscribers_[static_cast<int>(Topic::Joint)] > 0) {
+        Json m;
+        m["event"] = "joint";
+        m["joint"] = std::move(jj);
+        publish(m, Topic::Joint);
+      }
+    }
+    if (e) {
+      Json ev = event_json(*e, p.time_s);
+      if (*e == tk::Event::StartFound && rig_.sensor->start_point()) ev["point"] = to_json(*rig_.sensor->start_point());
+      if (*e == tk::Event::EndFound && rig_.sensor->end_point()) ev["point"] = to_json(*rig_.sensor->end_point());
+      step_events_.push_back(ev);
+      if (publish) publish(ev, Topic::Event);
+    }
+    if (publish && subscribers_[static_cast<int>(Topic::Profile)] > 0) {
+      Json m;
+      m["event"] = "profile";
+      m["profile"] = profile_json(p, r);
+      publish(m, Topic::Profile);
+    }
+  };
+}
+
+CellHost::~CellHost() = default;
+
+Json CellHost::joint_json(const tk::JointData& j) const {
+  Json o;
+  o["profile_index"] = j.profile_index;
+  o["time_s"] = j.time_s;
+  o["world_from_sensor"] = to_json(j.world_from_sensor);
+  Json bps = Json::array();
+  for (const auto& b : j.break_points) bps.push_back(b ? vec2(*b) : Json(nullptr));
+  o["break_points_sensor"] = bps;
+  o["track_point_sensor"] = vec2(j.track_point_sensor);
+  o["track_point_world"] = to_json(j.track_point_world);
+  o["gap_mm"] = maybe(j.gap_mm);
+  o["angle_deg"] = maybe(j.angle_deg);
+  o["confidence"] = j.confidence;
+  return o;
+}
+
+Json CellHost::step(double to_s) {
+  step_events_ = Json::array();
+  auto run_to = [&](double t) {
+    const bool done = robot_.advance(t);
+    const std::vector<tk::Event> ev = rig_.sensor->advance(t, robot_.tcp());
+    for (tk::Event e : ev) {
+      if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
+      Json j = event_json(e, t);
+      j["error"] = rig_.sensor->error();
+      step_events_.push_back(j);
+      if (publish) publish(j, Topic::Event);
+    }
+    if (done) {
+      Json j;
+      j["event"] = "move-done";
+      j["time_s"] = t;
+      step_events_.push_back(j);
+      if (publish) publish(j, Topic::Event);
+    }
+  };
+  for (double b : robot_.breaks_before(to_s)) run_to(b);
+  run_to(to_s);
+  Json out = std::move(step_events_);
+  step_events_ = Json::array();
+  return out;
+}
+
+void CellHost::advance_to(double t) {
+  if (t > robot_.time_s()) step(t);
+}
+
+void CellHost::subscribe(const Peer& peer, int add) {
+  subscribers_[static_cast<int>(Topic::Event)] += peer.events ? add : 0;
+  subscribers_[static_cast<int>(Topic::Profile)] += peer.profiles ? add : 0;
+  subscribers_[static_cast<int>(Topic::Joint)] += peer.joints ? add : 0;
+}
+
+void CellHost::disconnected(Peer& peer) {
+  if (peer.controller) controller_taken_ = false;
+  peer.controller = false;
+  subscribe(peer, -1);
+  peer.events = peer.profiles = peer.joints = false;
+}
+
+void CellHost::require_control(const Request& r, const Peer& peer) const {
+  if (!peer.controller)
+    throw NotController(r.cmd + " needs the controlling client; this one observes (hello with \"role\": \"control\")");
+}
+
+Json CellHost::handle_line(std::string_view line, Peer& peer) {
+  auto parsed = parse_request(line);
+  if (auto* err = std::get_if<Json>(&parsed)) return std::move(*err);
+  return handle(std::get<Request>(parsed), peer);
+}
+
+Json CellHost::handle(const Request& r, Peer& peer) {
+  try {
+    return dispatch(r, peer);
+  } catch (const BadArgument& e) {
+    return error_answer(r.id, "bad_argument", r.cmd + ": " + e.what());
+  } catch (const NotController& e) {
+    return error_answer(r.id, "not_controller", e.what());
+  } catch (const WrongMode& e) {
+    return error_answer(r.id, "wrong_mode", e.what());
+  } catch (const Failed& e) {
+    return error_answer(r.id, "failed", e.what());
+  } catch (const std::exception& e) {
+    return error_answer(r.id, "failed", r.cmd + ": " + e.what());
+  }
+}
+
+Json CellHost::state_json() const {
+  const tk::SensorInterface& s = *rig_.sensor;
+  Json o;
+  o["state"] = std::string(tk::to_string(s.state()));
+  o["start_point"] = s.start_point() ? to_json(*s.start_point()) : Json(nullptr);
+  o["end_point"] = s.end_point() ? to_json(*s.end_point()) : Json(nullptr);
+  const tk::SequenceCounters& c = s.counters();
+  Json k;
+  k["profiles"] = c.profiles;
+  k["with_joint"] = c.joint_profiles;
+  k["without_joint"] = c.invalid_profiles;
+  k["longest_gap_mm"] = c.longest_gap_mm;
+  o["counters"] = k;
+  return o;
+}
+
+Json CellHost::job_json() const {
+  const SimRun& run = rig_.run;
+  const SimSpec& spec = options_.sim;
+  Json seams = Json::array();
+  for (const tk::SeamPlan& p : run.cell.plan) {
+    Json s;
+    s["start_mm"] = to_json(p.start_mm);
+    s["end_mm"] = to_json(p.end_mm);
+    s["plate_normal"] = to_json(p.plate_normal);
+    s["wall_normal"] = to_json(p.wall_normal);
+    seams.push_back(s);
+  }
+  const tk::MasterParams& m = rig_.master;
+  Json mp;
+  mp["speed_mm_s"] = m.speed_mm_s;
+  mp["control_rate_hz"] = m.control_rate_hz;
+  mp["lookahead_mm"] = m.lookahead_mm;
+  mp["search_margin_mm"] = m.search_margin_mm;
+  mp["search_margin_recalibrated_mm"] = m.search_margin_recalibrated_mm;
+  mp["search_extra_mm"] = m.search_extra_mm;
+  mp["max_search_retries"] = m.max_search_retries;
+  mp["end_margin_mm"] = m.end_margin_mm;
+  mp["fit_window_mm"] = m.fit_window_mm;
+  mp["gate_mm"] = m.gate_mm;
+  mp["gate_after"] = m.gate_after;
+  mp["direction_span_mm"] = m.direction_span_mm;
+  mp["refit_after_rejections"] = m.refit_after_rejections;
+  mp["recalibrate"] = m.recalibrate;
+  Json sensor;
+  sensor["name"] = run.scanner.name;
+  sensor["material"] = run.scanner.material;
+  sensor["error_model"] = !run.scanner.ideal;
+  sensor["rate_hz"] = run.scanner.rate_hz;
+  sensor["points"] = run.scanner.points;
+  sensor["tool_from_sensor"] = to_json(rig_.sensor->stream().tool_from_sensor());
+  Json o;
+  o["cell"] = "box";
+  o["seams"] = seams;
+  o["world_from_workpiece"] = to_json(run.cell.nominal_world_from_workpiece);
+  o["master"] = mp;
+  o["sensor"] = sensor;
+  o["source"] = run.source_name;
+  o["seed"] = spec.seed;
+  o["speed_mm_s"] = spec.speed_mm_s;
+  return o;
+}
+
+Json CellHost::truth_json() const {
+  const SimRun& run = rig_.run;
+  Json seams = Json::array();
+  for (const SimSeamTruth& t : run.cell.truth) {
+    Json s;
+    s["start"] = to_json(t.start);
+    s["end"] = to_json(t.end);
+    s["plate_normal"] = to_json(t.plate_normal);
+    s["wall_normal"] = to_json(t.wall_normal);
+    s["lateral"] = to_json(t.lateral());
+    seams.push_back(s);
+  }
+  Json o;
+  o["seams"] = seams;
+  o["world_from_workpiece"] = to_json(run.cell.actual_world_from_workpiece);
+  o["workpiece_offset_mm"] = run.offset_mm();
+  o["workpiece_rotation_deg"] = run.rotation_deg();
+  return o;
+}
+
+Json CellHost::dispatch(const Request& r, Peer& peer) {
+  const std::string& c = r.cmd;
+  const Json& b = r.body;
+  Json a = ok_answer(r.id);
+  if (c == "hello") {
+    const std::int64_t v = integer_field(b, "protocol", 0, 1000000, kProtocolVersion);
+    if (v != kProtocolVersion) {
+      Json e = error_answer(r.id, "version",
+                            "this server speaks protocol " + std::to_string(kProtocolVersion) + ", not " +
+                                std::to_string(v));
+      e["server_protocol"] = kProtocolVersion;
+      return e;
+    }
+    const std::string role = string_field(b, "role", "observe");
+    if (role != "control" && role != "observe")
+      throw BadArgument("role = \"" + role + "\": expected \"control\" or \"observe\"");
+    if (role == "control" && !peer.controller) {
+      if (controller_taken_) return error_answer(r.id, "busy", "another client controls the cell; observe instead");
+      controller_taken_ = true;
+      peer.controller = true;
+    } else if (role == "observe" && peer.controller) {
+      controller_taken_ = false;
+      peer.controller = false;
+    }
+    peer.hello = true;
+    peer.name = string_field(b, "client", peer.name);
+    a["protocol"] = kProtocolVersion;
+    a["server"] = "vts " + std::string(version());
+    a["role"] = peer.controller ? "control" : "observe";
+    a["mode"] = realtime() ? "realtime" : "lockstep";
+    a["cell"] = "box";
+    a["time_s"] = time_s();
+    return a;
+  }
+  if (!peer.hello) return error_answer(r.id, "no_hello", "send hello first (docs/PROTOCOL.md, \"Session\")");
+
+  if (c == "time") {
+    a["time_s"] = time_s();
+    a["mode"] = realtime() ? "realtime" : "lockstep";
+  } else if (c == "step") {
+    require_control(r, peer);
+    if (realtime()) throw WrongMode("step: time runs by the wall clock (vts serve --realtime)");
+    const bool has_to = b.contains("to_s"), has_dt = b.contains("dt_s");
+    if (has_to == has_dt) throw BadArgument("to_s/dt_s: give exactly one");
+    const double now = time_s();
+    const double to = has_to ? number_field(b, "to_s", -1e300, 1e300) : now + number_field(b, "dt_s", 0.0, kMaxStepS);
+    if (!(to > now)) throw BadArgument("to_s = " + Json(to).dump() + ": not after the current time " + Json(now).dump());
+    if (to - now > kMaxStepS) throw BadArgument("to_s = " + Json(to).dump() + ": more than 60 s ahead");
+    a["events"] = step(to);
+    a["time_s"] = time_s();
+  } else if (c == "sensor.laser_on") {
+    require_control(r, peer);
+    a["confirmed"] = rig_.sensor->laser_on();
+    if (!a["confirmed"].get<bool>()) a["error"] = rig_.sensor->error();
+  } else if (c == "sensor.laser_off") {
+    require_control(r, peer);
+    rig_.sensor->laser_off();
+  } else if (c == "sensor.search_start") {
+    require_control(r, peer);
+    rig_.sensor->search_start();
+  } else if (c == "sensor.start_tracking") {
+    require_control(r, peer);
+    rig_.sensor->start_tracking();
+  } else if (c == "sensor.look_for_end") {
+    require_control(r, peer);
+    rig_.sensor->look_for_end();
+  } else if (c == "sensor.idle") {
+    require_control(r, peer);
+    rig_.sensor->idle();
+  } else if (c == "sensor.state") {
+    a.update(state_json());
+  } else if (c == "sensor.joint") {
+    const auto j = rig_.sensor->latest_joint(time_s());
+    if (j) {
+      Json jj = joint_json(*j);
+      jj["age_s"] = j->age_s;
+      a["joint"] = jj;
+    } else {
+      a["joint"] = nullptr;
+    }
+  } else if (c == "sensor.joints") {
+    const std::int64_t after = integer_field(b, "after_index", -1, INT64_MAX, -1);
+    Json list = Json::array();
+    for (const Json& j : joints_)
+      if (j["profile_index"].get<std::int64_t>() > after) list.push_back(j);
+    a["joints"] = list;
+    a["dropped"] = joints_dropped_index_ > after ? 1 : 0;
+  } else if (c == "sensor.profile") {
+    // The last profile: published form rebuilt from the unit.
+    if (rig_.sensor->last_profile().y_mm.empty())
+      a["profile"] = nullptr;
+    else
+      a["profile"] = profile_json(rig_.sensor->last_profile(), rig_.sensor->last_result());
+  } else if (c == "robot.pose") {
+    a["time_s"] = time_s();
+    a["world_from_tool"] = to_json(robot_.tcp());
+    a["moving"] = robot_.moving();
+    a["queued"] = robot_.queued();
+    a["correction_mm"] = to_json(robot_.correction_mm());
+  } else if (c == "robot.servo") {
+    require_control(r, peer);
+    robot_.servo(pose_field(b, "world_from_tool"));
+  } else if (c == "robot.move") {
+    require_control(r, peer);
+    const Pose3 target = pose_field(b, "world_from_tool");
+    const double speed = number_field(b, "speed_mm_s", 0.1, 2000.0);
+    if (!robot_.move(target, speed, bool_field(b, "queue", false)))
+      throw Failed("robot.move: " + std::to_string(PerfectRobot::kMaxQueued) + " moves are queued already");
+  } else if (c == "robot.stop") {
+    require_control(r, peer);
+    robot_.stop();
+  } else if (c == "robot.correct") {
+    require_control(r, peer);
+    const Eigen::Vector3d off = vec3_field(b, "offset_mm");
+    if (off.norm() > 100.0) throw BadArgument("offset_mm = " + to_json(off).dump() + ": longer than 100 mm");
+    robot_.set_correction(off);
+  } else if (c == "sim.job") {
+    a.update(job_json());
+  } else if (c == "sim.truth") {
+    a.update(truth_json());
+  } else if (c == "subscribe") {
+    const bool events = bool_field(b, "events", true), profiles = bool_field(b, "profiles", false),
+               joints = bool_field(b, "joints", false);
+    subscribe(peer, -1);
+    peer.events = events;
+    peer.profiles = profiles;
+    peer.joints = joints;
+    subscribe(peer, +1);
+  } else {
+    return error_answer(r.id, "unknown_command", "unknown command \"" + c + "\" (docs/PROTOCOL.md)");
+  }
+  return a;
+}
+
+}  // namespace vts::server

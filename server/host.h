@@ -1,0 +1,83 @@
+#pragma once
+// The served cell (docs/PROTOCOL.md): the paper's box cell with its virtual
+// sensor behind the sensor interface (pipeline/sim_run.h's SimRig: the same
+// set-up `vts sim` runs), a robot (server/robot.h) and the clock, answering
+// the protocol's requests. No sockets here: server/server.h carries the
+// lines; tests and other front-ends call handle() directly.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <string>
+#include <string_view>
+
+#include "pipeline/sim_run.h"
+#include "server/protocol.h"
+#include "server/robot.h"
+
+namespace vts::server {
+
+struct HostOptions {
+  SimSpec sim;            // the box cell, sensor, source, seed, speed (as `vts sim`)
+  bool realtime = false;  // wall-clock time (the server loop calls advance_to); else lockstep
+};
+
+// What the host keeps of one connection.
+struct Peer {
+  int id = 0;
+  bool hello = false;
+  bool controller = false;
+  bool events = false, profiles = false, joints = false;  // subscriptions
+  std::string name;
+};
+
+// What a push is about, for the subscriptions.
+enum class Topic { Event, Profile, Joint };
+
+class CellHost {
+ public:
+  static constexpr std::size_t kJointsHeld = 1000;
+  static constexpr double kMaxStepS = 60.0;
+
+  // Builds the cell and the sensor; throws as make_sim_rig.
+  explicit CellHost(const HostOptions& options);
+  ~CellHost();
+  CellHost(const CellHost&) = delete;
+  CellHost& operator=(const CellHost&) = delete;
+
+  // One request line from `peer`: the answer to send (exactly one). Never
+  // throws for anything the line contains.
+  Json handle_line(std::string_view line, Peer& peer);
+  Json handle(const Request& request, Peer& peer);
+  // The peer is gone: control is released.
+  void disconnected(Peer& peer);
+
+  // Real time: run the robot and the sensor up to t (the server's clock).
+  void advance_to(double t);
+  bool realtime() const { return options_.realtime; }
+  double time_s() const { return robot_.time_s(); }
+  double rate_hz() const { return rig_.run.scanner.rate_hz; }
+  // Pushes, called during handle() and advance_to(): the server forwards
+  // each to the peers subscribed to its topic.
+  std::function<void(const Json& message, Topic topic)> publish;
+
+ private:
+  Json dispatch(const Request& r, Peer& peer);
+  Json step(double to_s);  // the events raised, as a JSON array
+  Json joint_json(const tracker::JointData& j) const;
+  Json job_json() const;
+  Json truth_json() const;
+  Json state_json() const;
+  void require_control(const Request& r, const Peer& peer) const;
+  void subscribe(const Peer& peer, int add);  // the peer's subscriptions counted in or out
+
+  HostOptions options_;
+  SimRig rig_;
+  PerfectRobot robot_;
+  bool controller_taken_ = false;
+  std::deque<Json> joints_;             // the last kJointsHeld joint data, oldest first
+  std::int64_t joints_dropped_index_ = -1;  // the newest profile index dropped from joints_
+  Json step_events_;                    // events raised in the current advance
+  int subscribers_[3] = {0, 0, 0};      // peers subscribed, per Topic
+};
+
+}  // namespace vts::server
