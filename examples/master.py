@@ -648,7 +648,7 @@ class ProtocolSensor:
             self._error = e.message
             return False
         if not a.get("confirmed", False):
-            self._error = a.get("error", "") or a.get("message", "")
+            self._error = a.get("message", "")
             return False
         return True
 
@@ -680,7 +680,7 @@ class ProtocolSensor:
             elif name == "end-found" and e.get("point") is not None:
                 self._end = [float(x) for x in e["point"]]
             elif name == "stream-ended":
-                self._error = e.get("error", "") or self._error
+                self._error = e.get("message", "") or self._error
         return names
 
     def _state(self):
@@ -1291,7 +1291,7 @@ def run_realtime(client, poll_s, seg_mm=5.0):
 
             on = client.laser_on()
             if not on.get("confirmed", False):
-                run.failure = "the laser did not come on: " + str(on.get("error", ""))
+                run.failure = "the laser did not come on: " + str(on.get("message", ""))
                 res.seams.append(run)
                 continue
             t_on, p_on = now_and_profiles()
@@ -1311,7 +1311,7 @@ def run_realtime(client, poll_s, seg_mm=5.0):
                     run.start_point = [float(x) for x in ev["point"]]
                     break
                 if name == "stream-ended":
-                    run.failure = "the sensor stopped during the search: " + str(ev.get("error", ""))
+                    run.failure = "the sensor stopped during the search: " + str(ev.get("message", ""))
                     break
                 if name == "start-behind":
                     client.stop()
@@ -1371,7 +1371,7 @@ def run_realtime(client, poll_s, seg_mm=5.0):
                         run.lost = True
                         stop_point = intake.last_accepted
                     else:
-                        run.failure = "the sensor stopped while tracking: " + str(ev.get("error", ""))
+                        run.failure = "the sensor stopped while tracking: " + str(ev.get("message", ""))
                         stop_point = intake.last_accepted
                     poll_now = True
                 elif name == "move-done":

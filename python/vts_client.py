@@ -226,7 +226,7 @@ class Client:
     # -- sensor interface -----------------------------------------------------
 
     def laser_on(self):
-        """Answer with "confirmed" (bool) and "error" (str) if not."""
+        """Answer with "confirmed" (bool) and, if not, "message" (why)."""
         return self.request("sensor.laser_on")
 
     def laser_off(self):

@@ -151,7 +151,7 @@ tk::SensorState state_from(const std::string& name) {
 
 bool RemoteSensor::laser_on() {
   const Json a = c_.request("sensor.laser_on");
-  error_ = a.value("error", std::string());
+  error_ = a.value("message", std::string());
   return a.value("confirmed", false);
 }
 void RemoteSensor::laser_off() { c_.request("sensor.laser_off"); }
@@ -172,7 +172,7 @@ std::vector<tk::Event> RemoteSensor::advance(double time_s, const tk::Pose3& wor
     const std::string name = e.value("event", std::string());
     if (name == "move-done") continue;
     out.push_back(event_from(name));
-    if (name == "stream-ended") error_ = e.value("error", std::string());
+    if (name == "stream-ended") error_ = e.value("message", std::string());
   }
   return out;
 }

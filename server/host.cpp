@@ -121,7 +121,7 @@ Json CellHost::step(double to_s) {
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
       Json j = event_json(e, t);
-      j["error"] = rig_.sensor->error();
+      j["message"] = rig_.sensor->error();
       step_events_.push_back(j);
       if (publish) publish(j, Topic::Event);
     }
@@ -319,13 +319,15 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
     a["time_s"] = time_s();
   } else if (c == "sensor.laser_on") {
     require_control(r, peer);
+    joints_.clear();  // as the unit's latest joint: nothing from before this laser-on
     a["confirmed"] = rig_.sensor->laser_on();
-    if (!a["confirmed"].get<bool>()) a["error"] = rig_.sensor->error();
+    if (!a["confirmed"].get<bool>()) a["message"] = rig_.sensor->error();
   } else if (c == "sensor.laser_off") {
     require_control(r, peer);
     rig_.sensor->laser_off();
   } else if (c == "sensor.search_start") {
     require_control(r, peer);
+    joints_.clear();
     rig_.sensor->search_start();
   } else if (c == "sensor.start_tracking") {
     require_control(r, peer);

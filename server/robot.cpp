@@ -35,10 +35,8 @@ void PerfectRobot::servo(const Pose3& target) {
 }
 
 bool PerfectRobot::move(const Pose3& target, double speed_mm_s, bool queue) {
-  if (!queue) {
-    segments_.clear();
-    servo_ = false;
-  }
+  servo_ = false;  // a pending servo target is dropped by any move
+  if (!queue) segments_.clear();
   if (static_cast<int>(segments_.size()) >= kMaxQueued) return false;
   Segment s;
   s.from = segments_.empty() ? commanded_ : segments_.back().to;

@@ -35,8 +35,9 @@ class PerfectRobot {
   void servo(const Pose3& target);
   // A linear move at speed_mm_s (orientation turned over the same time, at
   // most kMaxTurnDegS) from where the last queued move ends (queue), or from
-  // the commanded pose now, replacing every move not yet done (and a pending
-  // servo target). False when kMaxQueued moves are queued already.
+  // the commanded pose now, replacing every move not yet done. Either way a
+  // servo target not yet reached is dropped. False when kMaxQueued moves are
+  // queued already.
   bool move(const Pose3& target, double speed_mm_s, bool queue);
   void stop();
   void set_correction(const Eigen::Vector3d& offset_mm) { correction_ = offset_mm; }

@@ -169,7 +169,7 @@ TEST_CASE("CellHost: hello first, one controller, observers read only", "[server
   CHECK(host.handle_line(R"({"cmd": "hello", "role": "control"})", b)["role"] == "control");
 }
 
-TEST_CASE("CellHost: a linear move takes distance / speed; the sensor sees the path", "[server][gl]") {
+TEST_CASE("CellHost: a linear move takes distance / speed, and the sensor sees the path", "[server][gl]") {
   CellHost host(box_options());
   Peer a;
   host.handle_line(R"({"cmd": "hello", "role": "control"})", a);
@@ -228,7 +228,7 @@ TEST_CASE("The C++ master through vts::client welds exactly as vts sim does in p
   CHECK(sensor.counters().profiles == local.profiles);
 }
 
-TEST_CASE("Server: garbage, oversized and half lines, silent and slow clients; the others are served", "[server][gl]") {
+TEST_CASE("Server: garbage, oversized and half lines, silent and slow clients, and the others are served", "[server][gl]") {
   ServerOptions so;
   so.max_queue_bytes = 1 << 20;
   Running srv(box_options(), so);
