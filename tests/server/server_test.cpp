@@ -233,7 +233,24 @@ TEST_CASE("Server: garbage, oversized and half lines, silent and slow clients, a
   so.max_queue_bytes = 1 << 20;
   Running srv(box_options(), so);
   const int port = srv.server->port();
-  client::Client ctl("127.0.0.1", port, "control");
+  {  // a controller that commands a 20 s step and leaves before the answers
+    Raw r(port);
+    r.send("{\"cmd\":\"hello\",\"role\":\"control\"}\n{\"cmd\":\"sensor.laser_on\"}\n"
+           "{\"cmd\":\"step\",\"dt_s\":20}\n");
+  }
+  // Control is free once the server has seen the disconnect.
+  std::unique_ptr<client::Client> owner;
+  for (int i = 0; i < 200 && !owner; ++i) {
+    try {
+      owner = std::make_unique<client::Client>("127.0.0.1", port, "control");
+    } catch (const client::Error& e) {
+      REQUIRE(e.code == "busy");
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  REQUIRE(owner);
+  client::Client& ctl = *owner;
+  CHECK(ctl.request("time")["time_s"] == 20.0);  // the step completed, its answer went nowhere
 
   {  // garbage: an error answer, the connection stays
     Raw r(port);
