@@ -15,7 +15,7 @@ namespace vts::apps {
 namespace {
 
 struct ServeOptions : BoxOptions {
-  std::string listen, port, max_clients;
+  std::string listen, port, max_clients, cell, scene;
   bool allow_remote = false, realtime = false;
 };
 
@@ -26,7 +26,25 @@ void stop_on_signal(int) {
 
 int run_serve(const ServeOptions& o) {
   server::HostOptions host_options;
-  host_options.sim = box_spec(o);
+  if (!o.cell.empty() || !o.scene.empty()) {
+    // Another cell: the box's own options do not apply.
+    for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--offset", &o.offset},
+                                 {"--rotation", &o.rotation}, {"--speed", &o.speed}})
+      if (!v->empty()) cli::bad(opt, *v, "only for the box cell, not with --cell or --scene");
+    if (o.cell == "box") {
+      if (!o.scene.empty()) cli::bad("--cell", o.cell, "give --cell or --scene, not both");
+    } else {
+      Cell cell = cli::load_cell(o.cell, o.scene).cell;
+      apply_sensor_options(o, cell.scanner);
+      if (!o.rate.empty()) cell.scanner.rate_hz = cli::parse_positive("--rate", o.rate, "Hz");
+      host_options.cell = std::move(cell);
+    }
+  }
+  {
+    BoxOptions box = o;
+    if (host_options.cell) box.sensor = box.material = box.rate = "";  // applied to the cell above
+    host_options.sim = box_spec(box);  // the source and the seed, for any cell
+  }
   host_options.realtime = o.realtime;
   cli::apply_thread_limit(o.threads);
   server::ServerOptions so;
@@ -85,6 +103,11 @@ CLI::App* add_serve_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--realtime", o->realtime,
                 "Wall-clock time: profiles at the sensor's rate whether asked or not (default: lockstep, time "
                 "advances on the master's `step`)");
+  cmd->add_option("--cell", o->cell,
+                  "Serve this built-in cell (`vts cells`) instead of the box: its workpieces and scanner, the sensor "
+                  "mounted 50 mm ahead of the torch; each profile carries its joint's truth (default: box)")
+      ->type_name("NAME");
+  cmd->add_option("--scene", o->scene, "Serve the cell of this scene file (docs/SCENE_FORMAT.md)")->type_name("FILE");
   cmd->add_option("--max-clients", o->max_clients, "Most clients connected at once, 1..4096 (default 256)")
       ->type_name("N");
   cmd->callback([o, &exit_code] {

@@ -60,6 +60,31 @@ SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&
   return rig;
 }
 
+CellRig make_cell_rig(const Cell& cell, SourceKind source, std::uint64_t seed) {
+  CellRig rig;
+  rig.cell = cell;
+  rig.workpiece = -1;
+  for (std::size_t k = 0; k < cell.workpieces.size() && rig.workpiece < 0; ++k)
+    if (cell.workpieces[k].has_joint() && tracker_joint(cell.workpieces[k].type)) rig.workpiece = static_cast<int>(k);
+  if (rig.workpiece < 0) throw std::invalid_argument("cell " + cell.name + ": no workpiece has a joint the tracker knows");
+  const Workpiece& w = cell.workpieces[static_cast<std::size_t>(rig.workpiece)];
+  // The path's standoff: its first laser origin's distance from the seam line.
+  const Vec3 o = cell.path.pose_at(0).translation() - w.seam_origin();
+  const Vec3 d = w.seam_direction();
+  rig.standoff_mm = (o - o.dot(d) * d).norm();
+  rig.scanner = cell.scanner;
+  rig.scanner.tool_from_laser = Pose::Identity();
+  rig.scanner.tool_from_laser.translation() = Vec3(kCellLookaheadMm, 0.0, -rig.standoff_mm);
+  if (const std::string why = validate(rig.scanner); !why.empty()) throw std::invalid_argument("scanner: " + why);
+  rig.source = make_source(source, rig.scanner, cell.mesh());
+  rig.source_name = std::string(to_string(source));
+  tk::TrackerParams params = sim_tracker_params(rig.scanner, rig.standoff_mm);
+  params.joint = *tracker_joint(w.type);
+  if (params.joint == tk::JointType::Lap && !w.is_mesh()) params.lap.upper_thickness_mm = w.params.thickness_mm;
+  rig.sensor = std::make_unique<tk::SensorUnit>(std::make_unique<VirtualProfileStream>(*rig.source, seed), params);
+  return rig;
+}
+
 SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
   SimRig rig = make_sim_rig(spec, record);
   SimRun& run = rig.run;

@@ -14,6 +14,7 @@
 
 #include "pipeline/scan_session.h"
 #include "plot/plot.h"
+#include "sensor/cell.h"
 #include "sensor/profile.h"
 #include "sensor/profile_exr.h"
 #include "sensor/scanner.h"
@@ -64,6 +65,26 @@ struct SimRig {
   tracker::MasterParams master;
 };
 SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&)>& record = {});
+
+// A cell of `vts cells` or a scene file under the robot, as `vts serve`
+// hosts it: the cell's scanner mounted on the torch as in the box cell (the
+// laser plane kCellLookaheadMm ahead of the TCP along tool x, the laser's
+// origin back along the torch axis by the cell path's standoff: the
+// distance from its first pose to the seam), and the sensor unit set for
+// the joint of the cell's first workpiece that has one. Throws
+// std::invalid_argument when no workpiece has a joint the tracker knows, as
+// make_source otherwise.
+inline constexpr double kCellLookaheadMm = 50.0;
+struct CellRig {
+  Cell cell;
+  int workpiece = 0;      // the tracked one, index into cell.workpieces
+  ScannerDesc scanner;    // the cell's, with tool_from_laser set
+  double standoff_mm = 0.0;
+  std::string source_name;
+  std::unique_ptr<ProfileSource> source;
+  std::unique_ptr<tracker::SensorUnit> sensor;
+};
+CellRig make_cell_rig(const Cell& cell, SourceKind source, std::uint64_t seed);
 
 // Runs the experiment (make_sim_rig, the master, the evaluation); throws as
 // make_sim_rig.

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "common/version.h"
+#include "pipeline/profile_truth.h"
 #include "sensor/sim_cell.h"
 
 namespace vts::server {
@@ -22,27 +23,6 @@ Json event_json(tk::Event e, double time_s) {
   return j;
 }
 
-Json profile_json(const tk::SensorProfile& p, const tk::TrackResult& r) {
-  Json prof;
-  prof["index"] = p.index;
-  prof["time_s"] = p.time_s;
-  prof["world_from_sensor"] = to_json(p.world_from_sensor);
-  Json y = Json::array(), z = Json::array(), v = Json::array();
-  for (std::size_t i = 0; i < p.y_mm.size(); ++i) {
-    const bool ok = i < p.valid.size() && p.valid[i];
-    y.push_back(ok ? static_cast<double>(p.y_mm[i]) : 0.0);
-    z.push_back(ok ? static_cast<double>(p.z_mm[i]) : 0.0);
-    v.push_back(ok ? 1 : 0);
-  }
-  prof["y_mm"] = std::move(y);
-  prof["z_mm"] = std::move(z);
-  prof["valid"] = std::move(v);
-  prof["status"] = std::string(tk::to_string(r.status));
-  prof["reason"] = r.reason;
-  prof["confidence"] = r.confidence;
-  return prof;
-}
-
 struct Failed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -55,15 +35,21 @@ struct WrongMode : std::runtime_error {
 
 }  // namespace
 
-CellHost::CellHost(const HostOptions& options)
-    : options_(options), rig_(make_sim_rig(options.sim)), step_events_(Json::array()) {
-  // The robot starts where the master's first move will take it from: the
-  // nominal workpiece origin, 200 mm up, torch down.
+CellHost::CellHost(const HostOptions& options) : options_(options), step_events_(Json::array()) {
   Pose3 home = Pose3::Identity();
-  home.translation() = rig_.run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
-  home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+  if (options.cell) {
+    cell_.emplace(make_cell_rig(*options.cell, options.sim.source, options.sim.seed));
+    // The torch where the sensor sees the cell path's first profile.
+    home = cell_->cell.path.pose_at(0) * cell_->scanner.tool_from_laser.inverse();
+  } else {
+    box_.emplace(make_sim_rig(options.sim));
+    // Where the master's first move will take it from: the nominal
+    // workpiece origin, 200 mm up, torch down.
+    home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
+    home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+  }
   robot_ = PerfectRobot(home);
-  rig_.sensor->on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,
+  sensor().on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,
                                    std::optional<tk::Event> e) {
     if (j) {
       Json jj = joint_json(*j);
@@ -81,8 +67,8 @@ CellHost::CellHost(const HostOptions& options)
     }
     if (e) {
       Json ev = event_json(*e, p.time_s);
-      if (*e == tk::Event::StartFound && rig_.sensor->start_point()) ev["point"] = to_json(*rig_.sensor->start_point());
-      if (*e == tk::Event::EndFound && rig_.sensor->end_point()) ev["point"] = to_json(*rig_.sensor->end_point());
+      if (*e == tk::Event::StartFound && sensor().start_point()) ev["point"] = to_json(*sensor().start_point());
+      if (*e == tk::Event::EndFound && sensor().end_point()) ev["point"] = to_json(*sensor().end_point());
       step_events_.push_back(ev);
       if (publish) publish(ev, Topic::Event);
     }
@@ -96,6 +82,33 @@ CellHost::CellHost(const HostOptions& options)
 }
 
 CellHost::~CellHost() = default;
+
+Json CellHost::profile_json(const tk::SensorProfile& p, const tk::TrackResult& r) const {
+  Json prof;
+  prof["index"] = p.index;
+  prof["time_s"] = p.time_s;
+  prof["world_from_sensor"] = to_json(p.world_from_sensor);
+  Json y = Json::array(), z = Json::array(), v = Json::array();
+  for (std::size_t i = 0; i < p.y_mm.size(); ++i) {
+    const bool ok = i < p.valid.size() && p.valid[i];
+    y.push_back(ok ? static_cast<double>(p.y_mm[i]) : 0.0);
+    z.push_back(ok ? static_cast<double>(p.z_mm[i]) : 0.0);
+    v.push_back(ok ? 1 : 0);
+  }
+  prof["y_mm"] = std::move(y);
+  prof["z_mm"] = std::move(z);
+  prof["valid"] = std::move(v);
+  prof["status"] = std::string(tk::to_string(r.status));
+  prof["reason"] = r.reason;
+  prof["confidence"] = r.confidence;
+  if (cell_) {
+    // The joint's truth in this profile (pipeline/profile_truth.h), as a dataset labels it.
+    const Workpiece& w = cell_->cell.workpieces[static_cast<std::size_t>(cell_->workpiece)];
+    prof["truth"] = profile_truth_json(profile_truth(w, cell_->scanner, p.world_from_sensor));
+  }
+  return prof;
+}
+
 
 Json CellHost::joint_json(const tk::JointData& j) const {
   Json o;
@@ -117,11 +130,11 @@ Json CellHost::step(double to_s) {
   step_events_ = Json::array();
   auto run_to = [&](double t) {
     const bool done = robot_.advance(t);
-    const std::vector<tk::Event> ev = rig_.sensor->advance(t, robot_.tcp());
+    const std::vector<tk::Event> ev = sensor().advance(t, robot_.tcp());
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
       Json j = event_json(e, t);
-      j["message"] = rig_.sensor->error();
+      j["message"] = sensor().error();
       step_events_.push_back(j);
       if (publish) publish(j, Topic::Event);
     }
@@ -185,7 +198,7 @@ Json CellHost::handle(const Request& r, Peer& peer) {
 }
 
 Json CellHost::state_json() const {
-  const tk::SensorInterface& s = *rig_.sensor;
+  const tk::SensorInterface& s = sensor();
   Json o;
   o["state"] = std::string(tk::to_string(s.state()));
   o["start_point"] = s.start_point() ? to_json(*s.start_point()) : Json(nullptr);
@@ -200,8 +213,46 @@ Json CellHost::state_json() const {
   return o;
 }
 
+tk::SensorUnit& CellHost::sensor() const { return box_ ? *box_->sensor : *cell_->sensor; }
+
+double CellHost::rate_hz() const { return box_ ? box_->run.scanner.rate_hz : cell_->scanner.rate_hz; }
+
+std::string CellHost::cell_name() const { return box_ ? std::string("box") : cell_->cell.name; }
+
 Json CellHost::job_json() const {
-  const SimRun& run = rig_.run;
+  const ScannerDesc& scanner = box_ ? box_->run.scanner : cell_->scanner;
+  Json sensor_j;
+  sensor_j["name"] = scanner.name;
+  sensor_j["material"] = scanner.material;
+  sensor_j["error_model"] = !scanner.ideal;
+  sensor_j["rate_hz"] = scanner.rate_hz;
+  sensor_j["points"] = scanner.points;
+  sensor_j["tool_from_sensor"] = to_json(sensor().stream().tool_from_sensor());
+  Json o;
+  o["cell"] = cell_name();
+  if (cell_) {
+    // A cell of `vts cells` or a scene: its tracked joint's seam, where it
+    // is (no displacement), and the torch pose at the path's first profile.
+    const Workpiece& w = cell_->cell.workpieces[static_cast<std::size_t>(cell_->workpiece)];
+    o["joint"] = std::string(tk::to_string(*tracker_joint(w.type)));
+    Json seams = Json::array();
+    if (!w.is_mesh()) {
+      Json seam;
+      seam["start"] = to_json(w.seam_origin());
+      seam["end"] = to_json(Eigen::Vector3d(w.seam_origin() + w.params.length_mm * w.seam_direction()));
+      seams.push_back(seam);
+    }
+    o["seams"] = seams;
+    o["world_from_tool_start"] = to_json(Pose3(cell_->cell.path.pose_at(0) * cell_->scanner.tool_from_laser.inverse()));
+    o["path_step_mm"] = cell_->cell.path.step_mm;
+    o["path_profiles"] = cell_->cell.path.profiles;
+    o["standoff_mm"] = cell_->standoff_mm;
+    o["sensor"] = sensor_j;
+    o["source"] = cell_->source_name;
+    o["seed"] = options_.sim.seed;
+    return o;
+  }
+  const SimRun& run = box_->run;
   const SimSpec& spec = options_.sim;
   Json seams = Json::array();
   for (const tk::SeamPlan& p : run.cell.plan) {
@@ -212,7 +263,7 @@ Json CellHost::job_json() const {
     s["wall_normal"] = to_json(p.wall_normal);
     seams.push_back(s);
   }
-  const tk::MasterParams& m = rig_.master;
+  const tk::MasterParams& m = box_->master;
   Json mp;
   mp["speed_mm_s"] = m.speed_mm_s;
   mp["control_rate_hz"] = m.control_rate_hz;
@@ -228,19 +279,10 @@ Json CellHost::job_json() const {
   mp["direction_span_mm"] = m.direction_span_mm;
   mp["refit_after_rejections"] = m.refit_after_rejections;
   mp["recalibrate"] = m.recalibrate;
-  Json sensor;
-  sensor["name"] = run.scanner.name;
-  sensor["material"] = run.scanner.material;
-  sensor["error_model"] = !run.scanner.ideal;
-  sensor["rate_hz"] = run.scanner.rate_hz;
-  sensor["points"] = run.scanner.points;
-  sensor["tool_from_sensor"] = to_json(rig_.sensor->stream().tool_from_sensor());
-  Json o;
-  o["cell"] = "box";
   o["seams"] = seams;
   o["world_from_workpiece"] = to_json(run.cell.nominal_world_from_workpiece);
   o["master"] = mp;
-  o["sensor"] = sensor;
+  o["sensor"] = sensor_j;
   o["source"] = run.source_name;
   o["seed"] = spec.seed;
   o["speed_mm_s"] = spec.speed_mm_s;
@@ -248,8 +290,17 @@ Json CellHost::job_json() const {
 }
 
 Json CellHost::truth_json() const {
-  const SimRun& run = rig_.run;
+  Json o;
   Json seams = Json::array();
+  if (cell_) {
+    // Where it is planned: a served cell is not displaced. Each profile
+    // carries its own truth ("truth" in sensor.profile and the pushes).
+    const Json job = job_json();
+    o["seams"] = job["seams"];
+    o["joint"] = job["joint"];
+    return o;
+  }
+  const SimRun& run = box_->run;
   for (const SimSeamTruth& t : run.cell.truth) {
     Json s;
     s["start"] = to_json(t.start);
@@ -259,7 +310,6 @@ Json CellHost::truth_json() const {
     s["lateral"] = to_json(t.lateral());
     seams.push_back(s);
   }
-  Json o;
   o["seams"] = seams;
   o["world_from_workpiece"] = to_json(run.cell.actual_world_from_workpiece);
   o["workpiece_offset_mm"] = run.offset_mm();
@@ -297,7 +347,7 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
     a["server"] = "vts " + std::string(version());
     a["role"] = peer.controller ? "control" : "observe";
     a["mode"] = realtime() ? "realtime" : "lockstep";
-    a["cell"] = "box";
+    a["cell"] = cell_name();
     a["time_s"] = time_s();
     return a;
   }
@@ -320,28 +370,28 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
   } else if (c == "sensor.laser_on") {
     require_control(r, peer);
     joints_.clear();  // as the unit's latest joint: nothing from before this laser-on
-    a["confirmed"] = rig_.sensor->laser_on();
-    if (!a["confirmed"].get<bool>()) a["message"] = rig_.sensor->error();
+    a["confirmed"] = sensor().laser_on();
+    if (!a["confirmed"].get<bool>()) a["message"] = sensor().error();
   } else if (c == "sensor.laser_off") {
     require_control(r, peer);
-    rig_.sensor->laser_off();
+    sensor().laser_off();
   } else if (c == "sensor.search_start") {
     require_control(r, peer);
     joints_.clear();
-    rig_.sensor->search_start();
+    sensor().search_start();
   } else if (c == "sensor.start_tracking") {
     require_control(r, peer);
-    rig_.sensor->start_tracking();
+    sensor().start_tracking();
   } else if (c == "sensor.look_for_end") {
     require_control(r, peer);
-    rig_.sensor->look_for_end();
+    sensor().look_for_end();
   } else if (c == "sensor.idle") {
     require_control(r, peer);
-    rig_.sensor->idle();
+    sensor().idle();
   } else if (c == "sensor.state") {
     a.update(state_json());
   } else if (c == "sensor.joint") {
-    const auto j = rig_.sensor->latest_joint(time_s());
+    const auto j = sensor().latest_joint(time_s());
     if (j) {
       Json jj = joint_json(*j);
       jj["age_s"] = j->age_s;
@@ -358,10 +408,10 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
     a["dropped"] = joints_dropped_index_ > after ? 1 : 0;
   } else if (c == "sensor.profile") {
     // The last profile: published form rebuilt from the unit.
-    if (rig_.sensor->last_profile().y_mm.empty())
+    if (sensor().last_profile().y_mm.empty())
       a["profile"] = nullptr;
     else
-      a["profile"] = profile_json(rig_.sensor->last_profile(), rig_.sensor->last_result());
+      a["profile"] = profile_json(sensor().last_profile(), sensor().last_result());
   } else if (c == "robot.pose") {
     a["time_s"] = time_s();
     a["world_from_tool"] = to_json(robot_.tcp());

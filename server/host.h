@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -18,6 +19,10 @@ namespace vts::server {
 
 struct HostOptions {
   SimSpec sim;            // the box cell, sensor, source, seed, speed (as `vts sim`)
+  // Instead of the box: a cell of `vts cells` or a scene file, with its
+  // scanner (pipeline/sim_run.h make_cell_rig); sim.source and sim.seed
+  // still choose the source and the error model's draws.
+  std::optional<Cell> cell;
   bool realtime = false;  // wall-clock time (the server loop calls advance_to); else lockstep
 };
 
@@ -55,7 +60,7 @@ class CellHost {
   void advance_to(double t);
   bool realtime() const { return options_.realtime; }
   double time_s() const { return robot_.time_s(); }
-  double rate_hz() const { return rig_.run.scanner.rate_hz; }
+  double rate_hz() const;
   // Pushes, called during handle() and advance_to(): the server forwards
   // each to the peers subscribed to its topic.
   std::function<void(const Json& message, Topic topic)> publish;
@@ -70,8 +75,13 @@ class CellHost {
   void require_control(const Request& r, const Peer& peer) const;
   void subscribe(const Peer& peer, int add);  // the peer's subscriptions counted in or out
 
+  tracker::SensorUnit& sensor() const;
+  std::string cell_name() const;
+  Json profile_json(const tracker::SensorProfile& p, const tracker::TrackResult& r) const;
+
   HostOptions options_;
-  SimRig rig_;
+  std::optional<SimRig> box_;    // the box cell, or
+  std::optional<CellRig> cell_;  // another cell
   PerfectRobot robot_;
   bool controller_taken_ = false;
   std::deque<Json> joints_;             // the last kJointsHeld joint data, oldest first

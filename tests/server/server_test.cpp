@@ -20,6 +20,7 @@
 #include "server/client.h"
 #include "server/host.h"
 #include "server/server.h"
+#include "sensor/cell.h"
 #include "tracker/master.h"
 
 using namespace vts;
@@ -310,4 +311,41 @@ TEST_CASE("Server: observers receive every profile and event the controller caus
     REQUIRE(idx.size() == 40);
     for (std::size_t i = 0; i < idx.size(); ++i) CHECK(idx[i] == static_cast<std::int64_t>(i));
   }
+}
+
+TEST_CASE("CellHost serves a built-in cell: every profile carries its joint's truth, and the tracker reads it", "[server][gl]") {
+  for (const char* name : {"butt", "vgroove", "fillet"}) {
+    INFO(name);
+    HostOptions o;
+    o.cell = builtin_cell(name);
+    REQUIRE(o.cell);
+    CellHost host(o);
+    Peer a;
+    host.handle_line(R"({"cmd": "hello", "role": "control"})", a);
+    const Json job = host.handle_line(R"({"cmd": "sim.job"})", a);
+    CHECK(job["cell"] == name);
+    CHECK(job["joint"] == name);
+    // The torch starts where the sensor sees the cell path's first profile:
+    // kCellLookaheadMm ahead along the seam of the TCP.
+    const Eigen::Vector3d seam_start = client::vec3_from_json(job["seams"][0]["start"]);
+    const Pose3 tool = client::pose_from_json(job["world_from_tool_start"]);
+    const Pose3 laser = tool * client::pose_from_json(job["sensor"]["tool_from_sensor"]);
+    CHECK((laser.translation() - tool.translation()).dot(Eigen::Vector3d(client::vec3_from_json(job["seams"][0]["end"]) - seam_start).normalized()) ==
+          Approx(kCellLookaheadMm));
+    host.handle_line(R"({"cmd": "sensor.laser_on"})", a);
+    host.handle_line(R"({"cmd": "sensor.search_start"})", a);
+    host.handle_line(R"({"cmd": "step", "dt_s": 1.0})", a);
+    const Json p = host.handle_line(R"({"cmd": "sensor.profile"})", a)["profile"];
+    REQUIRE(p["truth"]["in_window"] == true);
+    const Json j = host.handle_line(R"({"cmd": "sensor.joint"})", a)["joint"];
+    REQUIRE(!j.is_null());
+    CHECK(j["profile_index"] == p["index"]);
+    // The truth (analytic, pipeline/profile_truth.h) against the reading, in the sensor frame.
+    const double dy = j["track_point_sensor"][0].get<double>() - p["truth"]["track_point"]["y"].get<double>();
+    const double dz = j["track_point_sensor"][1].get<double>() - p["truth"]["track_point"]["z"].get<double>();
+    CHECK(std::hypot(dy, dz) < 0.3);
+  }
+  HostOptions plate;
+  plate.cell = builtin_cell("plate");
+  CHECK_THROWS_WITH(CellHost(plate), Contains("no workpiece has a joint"));
 }
