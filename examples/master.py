@@ -636,6 +636,7 @@ class ProtocolSensor:
     def __init__(self, client):
         self.c = client
         self._error = ""
+        self.actual = [0.0, 0.0, 0.0]  # the TCP after the last step, as the simulator knows it
         self._start = None
         self._end = None
 
@@ -670,6 +671,9 @@ class ProtocolSensor:
     def advance(self, now, tool):
         self.c.servo(tool.to_json())
         answer = self.c.step(to_s=now)
+        # Where the TCP really is (the simulator's truth): the commanded pose
+        # with a perfect robot, behind it and off it with an arm.
+        self.actual = [float(x) for x in answer["world_from_tool_actual"]["t"]]
         self.c.events()  # pushed copies of the same alerts, if subscribed: the step's answer has them
         names = []
         for e in answer.get("events", []):
@@ -840,7 +844,7 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
         state["cycle"] += 1
         state["now"] = float(state["cycle"]) * dt
         events = sensor.advance(state["now"], tool)
-        res.samples.append((state["now"], seam, phase, list(tool.t)))
+        res.samples.append((state["now"], seam, phase, list(sensor.actual)))
         if log:
             log(state["now"], seam, phase, tool, events)
         return events
@@ -962,7 +966,7 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
                 break
             c += 1
 
-        run.weld_start = list(tool.t)
+        run.weld_start = list(sensor.actual)
         s = 0.0
         while not run.failure:
             stop = st["stop_point"]
@@ -982,7 +986,7 @@ def run_master(sensor, P, world_from_workpiece, seams, log=None):
             ev = tick(k, "weld", s)
             poll()
             handle(ev)
-        run.weld_end = list(tool.t)
+        run.weld_end = list(sensor.actual)
         run.welded_mm = s
         run.line_direction = obj.direction()
         run.line_point = obj.centroid()

@@ -48,6 +48,10 @@ bool near_deg(double rad, double deg) { return std::abs(rad - deg * kDeg) < 1e-9
 
 std::vector<std::string> arm_preset_names() { return {"irb2400", "kr16"}; }
 
+double limited_value(const ArmModel& m, const Joints& q, int i) {
+  return i == 2 && m.axis3_coupled ? q[1] + q[2] : q[i];
+}
+
 std::optional<ArmModel> arm_preset(std::string_view name) {
   ArmModel m;
   if (name == "irb2400") {
@@ -62,6 +66,7 @@ std::optional<ArmModel> arm_preset(std::string_view name) {
               axis(0, 90, 755, 0, -200, 200, 360, 1800),     //
               axis(0, -90, 0, 0, -120, 120, 360, 1800),      //
               axis(0, 0, 85, 0, -400, 400, 450, 2400)};
+    m.axis3_coupled = true;
     return m;
   }
   if (name == "kr16") {
@@ -232,9 +237,10 @@ IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const 
   for (int i = 0; i < 6; ++i) {
     const Axis& a = m.axes[static_cast<std::size_t>(i)];
     double best = r.q[i], best_d = 1e300;
+    const double shift = limited_value(m, r.q, i) - r.q[i];  // q2 for a coupled axis 3
     for (int k = -2; k <= 2; ++k) {
       const double v = r.q[i] + 2.0 * M_PI * k;
-      const bool inside = v >= a.min_rad && v <= a.max_rad;
+      const bool inside = v + shift >= a.min_rad && v + shift <= a.max_rad;
       const double dist = std::abs(v - near[i]) + (inside ? 0.0 : 1e6);
       if (dist < best_d) {
         best_d = dist;
@@ -242,11 +248,12 @@ IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const 
       }
     }
     r.q[i] = best;
-    if (best < a.min_rad || best > a.max_rad) {
+    const double v = limited_value(m, r.q, i);
+    if (v < a.min_rad || v > a.max_rad) {
       r.status = IkStatus::JointLimit;
       std::ostringstream o;
-      o << "axis " << i + 1 << " would be at " << best / kDeg << " degrees, outside " << a.min_rad / kDeg << " .. "
-        << a.max_rad / kDeg;
+      o << "axis " << i + 1 << " would be at " << v / kDeg << " degrees" << (v != best ? " (q2 + q3)" : "")
+        << ", outside " << a.min_rad / kDeg << " .. " << a.max_rad / kDeg;
       r.message = o.str();
       return r;
     }

@@ -36,11 +36,17 @@ struct ArmModel {
   std::string name;
   std::string source;  // where the numbers come from
   std::array<Axis, 6> axes;
+  // Axis 3 driven through a parallel linkage (ABB IRB 2400): its limits
+  // hold for the forearm's angle against the base, q2 + q3, not for q3.
+  bool axis3_coupled = false;
   // The layout inverse() solves: a = (a1, a2, a3, 0, 0, 0), d = (d1, 0, 0, d4,
   // 0, d6), alpha = (-90, 0, -90, 90, -90, 0) degrees, offsets (0, -90, 0, 0,
   // 0, 0). validate() says when a model departs from it.
 };
 
+// The value an axis's limits apply to (axis 0-based): q[i], or q2 + q3 for
+// a coupled axis 3.
+double limited_value(const ArmModel& model, const Joints& q, int axis);
 // "irb2400" (ABB IRB 2400/16) and "kr16" (KUKA KR 16-2): docs/ROBOT.md.
 std::optional<ArmModel> arm_preset(std::string_view name);
 std::vector<std::string> arm_preset_names();

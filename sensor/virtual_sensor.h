@@ -6,6 +6,7 @@
 // Wrap it in a tracker::SensorUnit to get the sensor interface.
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "sensor/error_model.h"
 #include "sensor/profile_source.h"
@@ -28,6 +29,12 @@ class VirtualProfileStream final : public tracker::ProfileStream {
   // change it (tests inject faults), then `record` sees the final profile.
   std::function<void(Profile&)> alter;
   std::function<void(const Profile&)> record;
+  // Where the sensor really is against where the robot reports it (a robot
+  // with absolute-accuracy errors, robot/arm_robot.h): set, the laser scans
+  // the cell at actual_from_reported * the reported pose, and the profile
+  // keeps the reported pose, as a real sensor's data are stamped with the
+  // controller's idea of its pose. Empty: the reported pose is the actual one.
+  std::optional<Pose> actual_from_reported;
 
   const ScanState& scan_state() const { return state_; }
   const Profile& last_measured() const { return measured_; }

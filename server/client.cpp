@@ -167,6 +167,7 @@ std::vector<tk::Event> RemoteSensor::advance(double time_s, const tk::Pose3& wor
   Json t;
   t["to_s"] = time_s;
   const Json a = c_.request("step", t);
+  actual_ = pose_from_json(a["world_from_tool_actual"]);
   std::vector<tk::Event> out;
   for (const Json& e : a["events"]) {
     const std::string name = e.value("event", std::string());

@@ -72,9 +72,13 @@ class RemoteSensor final : public tracker::SensorInterface {
   std::optional<Eigen::Vector3d> end_point() const override;
   const tracker::SequenceCounters& counters() const override;
   std::string error() const override { return error_; }
+  // The TCP after the last advance() as the simulator knows it (the step's
+  // world_from_tool_actual): behind and off the commanded pose with an arm.
+  const tracker::Pose3& last_actual() const { return actual_; }
 
  private:
   Client& c_;
+  tracker::Pose3 actual_ = tracker::Pose3::Identity();
   mutable tracker::SequenceCounters counters_;
   std::string error_;
 };

@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "common/version.h"
+#include "robot/arm_robot.h"
+#include "sensor/virtual_sensor.h"
 #include "pipeline/profile_truth.h"
 #include "sensor/sim_cell.h"
 
@@ -11,6 +13,10 @@ namespace vts::server {
 namespace {
 
 namespace tk = vts::tracker;
+
+constexpr double kTorchMm = 400.0;  // flange to TCP along the flange's z
+constexpr double kBaseAcrossMm = 1100.0;  // the arm's base from the TCP's start, across its travel
+constexpr double kBaseBelowMm = 300.0;    // and below it
 
 Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
@@ -21,6 +27,29 @@ Json event_json(tk::Event e, double time_s) {
   j["event"] = std::string(tk::to_string(e));
   j["time_s"] = time_s;
   return j;
+}
+
+// The robot of HostOptions::robot with its TCP at `home`: a perfect one, or
+// an arm whose base stands where it reaches the cell (docs/ROBOT.md).
+std::unique_ptr<robot::Robot> make_robot(const HostOptions& o, const Pose3& home) {
+  if (o.robot == "perfect") return std::make_unique<robot::PerfectRobot>(home);
+  const auto model = robot::arm_preset(o.robot);
+  if (!model) throw std::invalid_argument("robot = '" + o.robot + "': expected perfect, irb2400 or kr16");
+  robot::ArmSetup s;
+  s.nominal = *model;
+  s.accuracy_seed = o.robot_seed;
+  s.flange_from_tool.translation() = Eigen::Vector3d(0.0, 0.0, kTorchMm);
+  // The base kBaseAcrossMm from the TCP's start across its travel direction,
+  // kBaseBelowMm below it, facing it: the cell in the middle of the arm's reach.
+  Eigen::Vector3d x = home.linear().col(0);
+  x.z() = 0.0;
+  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
+  x.normalize();
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(x);
+  const Eigen::Vector3d base = home.translation() - kBaseAcrossMm * across - Eigen::Vector3d(0.0, 0.0, kBaseBelowMm);
+  s.world_from_base.linear() << across, Eigen::Vector3d::UnitZ().cross(across), Eigen::Vector3d::UnitZ();
+  s.world_from_base.translation() = base;
+  return std::make_unique<robot::ArmRobot>(s, home);
 }
 
 struct Failed : std::runtime_error {
@@ -48,7 +77,7 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
     home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   }
-  robot_ = PerfectRobot(home);
+  robot_ = make_robot(options, home);
   sensor().on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,
                                    std::optional<tk::Event> e) {
     if (j) {
@@ -129,8 +158,26 @@ Json CellHost::joint_json(const tk::JointData& j) const {
 Json CellHost::step(double to_s) {
   step_events_ = Json::array();
   auto run_to = [&](double t) {
-    const bool done = robot_.advance(t);
-    const std::vector<tk::Event> ev = sensor().advance(t, robot_.tcp());
+    const bool faulted = !robot_->fault().empty();
+    const bool done = robot_->advance(t);
+    if (!faulted && !robot_->fault().empty()) {
+      Json j;
+      j["event"] = "robot-fault";
+      j["time_s"] = t;
+      j["message"] = robot_->fault();
+      step_events_.push_back(j);
+      if (publish) publish(j, Topic::Event);
+    }
+    // The sensor's data are stamped with the pose the controller reports;
+    // it scans where the arm really is.
+    const Pose3 reported = robot_->reported_tcp();
+    if (auto* vs = dynamic_cast<VirtualProfileStream*>(&sensor().stream())) {
+      if (options_.robot == "perfect")
+        vs->actual_from_reported.reset();
+      else
+        vs->actual_from_reported = Pose3(robot_->tcp() * reported.inverse());
+    }
+    const std::vector<tk::Event> ev = sensor().advance(t, reported);
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
       Json j = event_json(e, t);
@@ -146,7 +193,7 @@ Json CellHost::step(double to_s) {
       if (publish) publish(j, Topic::Event);
     }
   };
-  for (double b : robot_.breaks_before(to_s)) run_to(b);
+  for (double b : robot_->breaks_before(to_s)) run_to(b);
   run_to(to_s);
   Json out = std::move(step_events_);
   step_events_ = Json::array();
@@ -154,7 +201,7 @@ Json CellHost::step(double to_s) {
 }
 
 void CellHost::advance_to(double t) {
-  if (t > robot_.time_s()) step(t);
+  if (t > robot_->time_s()) step(t);
 }
 
 void CellHost::subscribe(const Peer& peer, int add) {
@@ -367,6 +414,8 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
     if (to - now > kMaxStepS) throw BadArgument("to_s = " + Json(to).dump() + ": more than 60 s ahead");
     a["events"] = step(to);
     a["time_s"] = time_s();
+    a["world_from_tool"] = to_json(robot_->reported_tcp());
+    a["world_from_tool_actual"] = to_json(robot_->tcp());
   } else if (c == "sensor.laser_on") {
     require_control(r, peer);
     joints_.clear();  // as the unit's latest joint: nothing from before this laser-on
@@ -414,27 +463,37 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
       a["profile"] = profile_json(sensor().last_profile(), sensor().last_result());
   } else if (c == "robot.pose") {
     a["time_s"] = time_s();
-    a["world_from_tool"] = to_json(robot_.tcp());
-    a["moving"] = robot_.moving();
-    a["queued"] = robot_.queued();
-    a["correction_mm"] = to_json(robot_.correction_mm());
+    a["world_from_tool"] = to_json(robot_->reported_tcp());
+    a["world_from_tool_actual"] = to_json(robot_->tcp());
+    a["moving"] = robot_->moving();
+    a["queued"] = robot_->queued();
+    a["correction_mm"] = to_json(robot_->correction_mm());
+    a["robot"] = options_.robot;
+    if (const auto q = robot_->joints()) {
+      Json jd = Json::array();
+      for (int i = 0; i < 6; ++i) jd.push_back((*q)[i] * 180.0 / M_PI);
+      a["joints_deg"] = jd;
+    }
+    a["fault"] = robot_->fault().empty() ? Json(nullptr) : Json(robot_->fault());
+  } else if (c.rfind("robot.", 0) == 0 && c != "robot.pose" && (require_control(r, peer), !robot_->fault().empty())) {
+    throw Failed(c + ": the robot stopped on a fault: " + robot_->fault());
   } else if (c == "robot.servo") {
     require_control(r, peer);
-    robot_.servo(pose_field(b, "world_from_tool"));
+    robot_->servo(pose_field(b, "world_from_tool"));
   } else if (c == "robot.move") {
     require_control(r, peer);
     const Pose3 target = pose_field(b, "world_from_tool");
     const double speed = number_field(b, "speed_mm_s", 0.1, 2000.0);
-    if (!robot_.move(target, speed, bool_field(b, "queue", false)))
-      throw Failed("robot.move: " + std::to_string(PerfectRobot::kMaxQueued) + " moves are queued already");
+    if (!robot_->move(target, speed, bool_field(b, "queue", false)))
+      throw Failed("robot.move: " + std::to_string(robot::PerfectRobot::kMaxQueued) + " moves are queued already");
   } else if (c == "robot.stop") {
     require_control(r, peer);
-    robot_.stop();
+    robot_->stop();
   } else if (c == "robot.correct") {
     require_control(r, peer);
     const Eigen::Vector3d off = vec3_field(b, "offset_mm");
     if (off.norm() > 100.0) throw BadArgument("offset_mm = " + to_json(off).dump() + ": longer than 100 mm");
-    robot_.set_correction(off);
+    robot_->set_correction(off);
   } else if (c == "sim.job") {
     a.update(job_json());
   } else if (c == "sim.truth") {

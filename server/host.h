@@ -7,13 +7,14 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "pipeline/sim_run.h"
 #include "server/protocol.h"
-#include "server/robot.h"
+#include "robot/perfect_robot.h"
 
 namespace vts::server {
 
@@ -24,6 +25,11 @@ struct HostOptions {
   // still choose the source and the error model's draws.
   std::optional<Cell> cell;
   bool realtime = false;  // wall-clock time (the server loop calls advance_to); else lockstep
+  // The robot: "perfect" (the TCP where commanded, at once) or an arm preset
+  // (robot/arm.h: "irb2400", "kr16") with its servo, latency and, with
+  // robot_seed > 0, the absolute-accuracy errors of that seed (docs/ROBOT.md).
+  std::string robot = "perfect";
+  std::uint64_t robot_seed = 0;
 };
 
 // What the host keeps of one connection.
@@ -59,7 +65,7 @@ class CellHost {
   // Real time: run the robot and the sensor up to t (the server's clock).
   void advance_to(double t);
   bool realtime() const { return options_.realtime; }
-  double time_s() const { return robot_.time_s(); }
+  double time_s() const { return robot_->time_s(); }
   double rate_hz() const;
   // Pushes, called during handle() and advance_to(): the server forwards
   // each to the peers subscribed to its topic.
@@ -82,7 +88,7 @@ class CellHost {
   HostOptions options_;
   std::optional<SimRig> box_;    // the box cell, or
   std::optional<CellRig> cell_;  // another cell
-  PerfectRobot robot_;
+  std::unique_ptr<robot::Robot> robot_;
   bool controller_taken_ = false;
   std::deque<Json> joints_;             // the last kJointsHeld joint data, oldest first
   std::int64_t joints_dropped_index_ = -1;  // the newest profile index dropped from joints_

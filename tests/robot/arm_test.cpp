@@ -34,6 +34,8 @@ Joints random_q(const ArmModel& m, std::mt19937_64& rng) {
       q[i] = d(rng);
     }
     const Singularity s = singularity(m, q);
+    const double v3 = limited_value(m, q, 2);
+    if (v3 < m.axes[2].min_rad || v3 > m.axes[2].max_rad) continue;  // a coupled axis 3
     if (s.wrist > 0.1 && s.elbow > 0.1 && s.shoulder_mm > 100.0) return q;
   }
 }

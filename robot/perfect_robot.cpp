@@ -1,10 +1,9 @@
-#include "server/robot.h"
+#include "robot/perfect_robot.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace vts::server {
-namespace {
+namespace vts::robot {
 
 Pose3 interpolate(const Pose3& a, const Pose3& b, double f) {
   const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
@@ -13,8 +12,6 @@ Pose3 interpolate(const Pose3& a, const Pose3& b, double f) {
   p.translation() = (1.0 - f) * a.translation() + f * b.translation();
   return p;
 }
-
-}  // namespace
 
 Pose3 PerfectRobot::tcp() const {
   Pose3 p = commanded_;
@@ -80,4 +77,4 @@ bool PerfectRobot::advance(double t) {
   return had && segments_.empty();
 }
 
-}  // namespace vts::server
+}  // namespace vts::robot

@@ -1,0 +1,101 @@
+#include "robot/arm_robot.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace vts::robot {
+namespace {
+
+Pose3 flange_target(const ArmSetup& s, const Pose3& world_from_tool) {
+  return s.world_from_base.inverse() * world_from_tool * s.flange_from_tool.inverse();
+}
+
+// The joints of the first configuration reaching the pose cleanly.
+Joints start_joints(const ArmSetup& s, const Pose3& tcp, Config& config) {
+  const Pose3 f = flange_target(s, tcp);
+  std::string why = "no configuration reaches it";
+  for (const Solution& sol : inverse_all(s.nominal, f)) {
+    const IkResult r = inverse(s.nominal, f, sol.config, sol.q, s.limits);
+    if (r.status == IkStatus::Ok) {
+      config = sol.config;
+      return r.q;
+    }
+    why = r.message;
+  }
+  const Eigen::Vector3d p = tcp.translation();
+  throw std::invalid_argument("robot " + s.nominal.name + ": the start pose (" + std::to_string(p.x()) + ", " +
+                              std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") mm cannot be reached: " + why);
+}
+
+}  // namespace
+
+ArmRobot::ArmRobot(const ArmSetup& setup, const Pose3& tcp_start)
+    : s_(setup),
+      built_(setup.accuracy_seed ? perturbed(setup.nominal, setup.accuracy_seed) : setup.nominal),
+      path_(tcp_start),
+      servo_(built_, setup.servo, start_joints(setup, tcp_start, config_)) {
+  q_cmd_ = servo_.q();
+}
+
+Pose3 ArmRobot::tcp() const { return s_.world_from_base * forward(built_, servo_.q()) * s_.flange_from_tool; }
+
+Pose3 ArmRobot::reported_tcp() const {
+  return s_.world_from_base * forward(s_.nominal, servo_.q()) * s_.flange_from_tool;
+}
+
+void ArmRobot::servo(const Pose3& target) {
+  if (fault_.empty()) path_.servo(target);
+}
+
+bool ArmRobot::move(const Pose3& target, double speed_mm_s, bool queue) {
+  return fault_.empty() ? path_.move(target, speed_mm_s, queue) : true;
+}
+
+std::vector<double> ArmRobot::breaks_before(double t) const {
+  std::vector<double> out;
+  const double dt = s_.servo.cycle_s;
+  for (std::int64_t k = cycle_ + 1; static_cast<double>(k) * dt < t; ++k) out.push_back(static_cast<double>(k) * dt);
+  return out;
+}
+
+bool ArmRobot::advance(double t) {
+  if (t <= time_s_) return false;
+  const double dt = s_.servo.cycle_s;
+  bool done = false;
+  // A servo target spans the whole advance: the path reaches it at t; each
+  // cycle samples the straight line to it.
+  const Pose3 from = path_.commanded();
+  const bool servoing = path_.moving() && path_.queued() == 0;
+  const double t0 = time_s_;
+  while (static_cast<double>(cycle_ + 1) * dt <= t + 1e-12) {
+    ++cycle_;
+    const double tc = static_cast<double>(cycle_) * dt;
+    Pose3 cmd;
+    if (servoing) {
+      const double f = std::min(1.0, (tc - t0) / (t - t0));
+      cmd = interpolate(from, path_.servo_target(), f);
+      if (f >= 1.0) path_.advance(tc);
+    } else {
+      done = path_.advance(tc) || done;
+      cmd = path_.commanded();
+    }
+    corrections_.push_back(path_.correction_mm());
+    while (static_cast<int>(corrections_.size()) > s_.correction_delay_cycles + 1) corrections_.pop_front();
+    cmd.translation() += corrections_.front();
+    if (fault_.empty()) {
+      const IkResult r = inverse(s_.nominal, flange_target(s_, cmd), config_, q_cmd_, s_.limits);
+      if (r.status == IkStatus::Ok) {
+        q_cmd_ = r.q;
+      } else {
+        fault_ = std::string(to_string(r.status)) + " at t = " + std::to_string(tc) + " s: " + r.message;
+        path_.stop();
+      }
+    }
+    servo_.step(q_cmd_);  // after a fault: hold the last command, the arm settles there
+  }
+  if (servoing && path_.moving()) path_.advance(t);
+  time_s_ = t;
+  return done;
+}
+
+}  // namespace vts::robot
