@@ -1670,16 +1670,29 @@ class Matcher {
     }
     poly.push_back(b4);
     close_notches(poly, along, down, gp.max_notch_mm);
-    // B3: the bottom midway between the toes.
+    // B3: the bottom midway between the toes. It must rest on the bottom as
+    // seen: the polyline's piece under it no longer than a notch (a root
+    // gap closed at its shoulders, a dropout run); a longer piece joins
+    // points far apart (a wall seen to its end and nothing below it, a
+    // toe taken from a hidden wall), and B3 on it is a guess.
     const double u_mid = 0.5 * ((b2 - b1).dot(along) + (b4 - b1).dot(along));
     Vec2 b3 = 0.5 * (b2 + b4);
+    double under = (b4 - b2).norm();
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
       if (u0 <= u_mid && u1 >= u_mid) {
         const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
+        under = (poly[k + 1] - poly[k]).norm();
         break;
       }
+    }
+    if (under > gp.max_notch_mm) {
+      std::snprintf(c.reason, sizeof c.reason,
+                    "the groove's bottom is not seen under the track point (its nearest points %.3g mm apart)", under);
+      c.track = b3;
+      offer(c);
+      return;
     }
     // The lowest point of the bottom (each inner point smoothed over its
     // neighbours within 10 noise sigmas along, at most 0.5 mm: noise would
