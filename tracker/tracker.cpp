@@ -1034,19 +1034,25 @@ class Matcher {
           // the upper plate's end and the next ray; the face is square to it.
           // Points between the plates on the upper plate's line (a noisy
           // piece too short to be a segment of its own) still belong to it.
+          // Points behind the lower plate are no surface of the joint (a
+          // reflection cluster displaced away from the sensor): the upper
+          // plate reaches past them to its points beyond.
           int u_edge = u_end;
           auto on_upper = [&](int i) {
             return upper.line.distance(pt(i)) <= tol_ && lower.line.distance(pt(i)) > tol_;
           };
-          if (upper_is_b)
-            while (u_edge - 1 >= from && on_upper(u_edge - 1)) --u_edge;
-          else
-            while (u_edge + 1 <= to && on_upper(u_edge + 1)) ++u_edge;
+          auto behind_lower = [&](int i) { return lower.line.signed_distance(pt(i)) < -tol_; };
+          const int step = upper_is_b ? -1 : +1;
+          for (int i = u_edge + step; i >= from && i <= to; i += step) {
+            if (behind_lower(i)) continue;
+            if (!on_upper(i)) break;
+            u_edge = i;
+          }
           // So do the points removed as outliers there (a few upper plate
           // points cut off by a noisy point and the step: an island).
           Vec2 u_pt = pt(u_edge);
           int u_col = s_.cols[u_edge];
-          reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col);
+          reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col, &lower.line);
           const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
           const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true);
           top = e.point;
@@ -1148,7 +1154,10 @@ class Matcher {
   // `other`, if given), also past removed points in front of the line (a
   // reflection cluster displaced towards the sensor), not past one behind it
   // (a ray into a gap).
-  void reach_removed(const Line& l, const Line* other, int dir, int stop, Vec2& end_pt, int& end_col) const {
+  // With `floor` (a lap's lower plate), it also reaches past removed points
+  // behind that line: no surface lies there (a reflection cluster).
+  void reach_removed(const Line& l, const Line* other, int dir, int stop, Vec2& end_pt, int& end_col,
+                     const Line* floor = nullptr) const {
     if (!p_.reach_removed_points) return;
     const int lo = dir > 0 ? end_col : stop, hi = dir > 0 ? stop : end_col;
     const auto removed = outliers_between(lo, hi);
@@ -1161,7 +1170,7 @@ class Matcher {
       const Vec2& o = removed[k];
       const double d = l.signed_distance(o);
       if (std::abs(d) <= tol_ && (!other || other->distance(o) > tol_)) end_pt = o, end_col = col;
-      else if (d < 0.0) break;
+      else if (d < 0.0 && !(floor && floor->signed_distance(o) < -tol_)) break;
     }
   }
 
