@@ -1546,6 +1546,10 @@ class Matcher {
     return std::nullopt;
   }
 
+  // The bottom at B3 must be one surface (groove_pair): B3's neighbours
+  // within kB3OffMm of the line most points within kB3SupportMm lie on.
+  static constexpr double kB3SupportMm = 1.5;
+  static constexpr double kB3OffMm = 0.5;
   void groove_pair(JointType joint, const Plate& a, const Plate& b) {
     const GrooveParams& gp = p_.groove;
     Candidate c;
@@ -1687,12 +1691,14 @@ class Matcher {
     const double u_mid = 0.5 * ((b2 - b1).dot(along) + (b4 - b1).dot(along));
     Vec2 b3 = 0.5 * (b2 + b4);
     double under = (b4 - b2).norm();
+    std::size_t under_k = poly.size();  // B3 lies between poly[under_k] and the next
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
       if (u0 <= u_mid && u1 >= u_mid) {
         const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
         under = (poly[k + 1] - poly[k]).norm();
+        under_k = k;
         break;
       }
     }
@@ -1702,6 +1708,42 @@ class Matcher {
       c.track = b3;
       offer(c);
       return;
+    }
+    // And on the bottom's surface: B3's neighbours on the polyline must lie
+    // on the line that most of the bottom's points within kB3SupportMm of it
+    // (along the tops) lie on, within kB3OffMm (a bead's cap, a radius or a
+    // root is smooth over that length): a reflection cluster in front of or
+    // behind the bottom there put B3 on the cluster (3.4 mm off) while the
+    // bottom beside it was seen. The line: of the lines through two of those
+    // points about kB3SupportMm apart, the one most of them lie on.
+    if (under_k + 1 < poly.size()) {
+      const double off_mm = std::max(kB3OffMm, 3.0 * tol_);
+      std::size_t lo_k = under_k, hi_k = under_k + 1;
+      while (lo_k > 0 && std::abs((poly[lo_k - 1] - b3).dot(along)) <= kB3SupportMm) --lo_k;
+      while (hi_k + 1 < poly.size() && std::abs((poly[hi_k + 1] - b3).dot(along)) <= kB3SupportMm) ++hi_k;
+      int best_in = -1;
+      Line best_line;
+      const std::size_t stride = std::max<std::size_t>(1, (hi_k - lo_k + 1) / 24);
+      for (std::size_t i = lo_k; i <= hi_k; i += stride) {
+        std::size_t j = i + 1;
+        while (j < hi_k && (poly[j] - poly[i]).dot(along) < kB3SupportMm) ++j;
+        if (j > hi_k || (poly[j] - poly[i]).norm() < 1e-9) continue;
+        Line l;
+        const Vec2 d = (poly[j] - poly[i]).normalized();
+        l.n = Vec2(-d.y(), d.x());
+        l.c = l.n.dot(poly[i]);
+        int in = 0;
+        for (std::size_t k = lo_k; k <= hi_k; ++k) in += l.distance(poly[k]) <= off_mm;
+        if (in > best_in) best_in = in, best_line = l;
+      }
+      if (best_in >= 3 && (best_line.distance(poly[under_k]) > off_mm || best_line.distance(poly[under_k + 1]) > off_mm)) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the track point rests on points %.3g mm off the groove's bottom beside it (a reflection?)",
+                      std::max(best_line.distance(poly[under_k]), best_line.distance(poly[under_k + 1])));
+        c.track = b3;
+        offer(c);
+        return;
+      }
     }
     // The lowest point of the bottom (each inner point smoothed over its
     // neighbours within 10 noise sigmas along, at most 0.5 mm: noise would
