@@ -944,7 +944,26 @@ class Matcher {
         c.add_line(Line{a.line.direction(), a.line.direction().dot(el.point)});
         c.add_line(Line{b.line.direction(), b.line.direction().dot(er.point)});
         c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
+        // A notch whose points all lie within a rounding's or chamfer's
+        // reach (kMaxRoundingMm) behind the faces is also what a closed
+        // corner with rounded or chamfered outer edges shows; a gap's slot
+        // goes deeper (rays into it meet the end faces far down, or
+        // nothing). Both readings then compete, the closed one at the apex,
+        // with the same lines: as strong as each other, the profile is
+        // ambiguous (rejected), not read 1-2 mm below the apex.
+        bool shallow = c.accepted && c.gap > 0.0 && from <= to;
+        for (int i = from; i <= to && shallow; ++i)
+          shallow = -std::max(a.line.signed_distance(pt(i)), b.line.signed_distance(pt(i))) <= kMaxRoundingMm;
         offer(c);
+        if (shallow) {
+          Candidate closed = c;
+          closed.gap = 0.0;
+          closed.edge_unc = closed.track_unc = 0.0;
+          closed.track = closed.bp[1] = closed.bp[3] = pr->x;
+          closed.score = c.score - 1;
+          if (c.accepted) closed.evidence = weigh(c), closed.weighed = true;  // over the same points
+          offer(closed);
+        }
       }
     }
   }
