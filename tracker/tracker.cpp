@@ -1817,6 +1817,26 @@ class Matcher {
       c.evidence = weigh_groove(c, wa ? wa->first : -1, wa ? wa->last : -1, wb ? wb->first : -1, wb ? wb->last : -1, la,
                                 lb, top);
       c.weighed = true;
+      // Tops are the work's surface: beyond a top's outer end (within
+      // window_mm of its edge) nothing of the work stands in front of the
+      // tops' line. Points there are a surface the reading cannot explain:
+      // its "top" lies inside a wider groove (a bead's flat cap or crest
+      // paired with a plate top), and the groove that explains them is
+      // another reading.
+      const ConfidenceParams& cp = p_.confidence;
+      int outside = 0, above = 0;
+      auto look = [&](int from, int step, const Vec2& edge) {
+        for (int i = from; i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - edge).norm() <= cp.window_mm;
+             i += step)
+          ++outside, above += top.signed_distance(pt(i)) > tol_;
+      };
+      look(a.first - 1, -1, b1);
+      look(b.last + 1, +1, b5);
+      if (above > cp.unexplained_points + cp.unexplained_share * (c.evidence.points + outside)) {
+        c.accepted = false;
+        std::snprintf(c.reason, sizeof c.reason,
+                      "a top lies inside a wider groove: %d points beyond the tops stand in front of them", above);
+      }
     }
     offer(c);
   }
