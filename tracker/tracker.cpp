@@ -1701,6 +1701,7 @@ class Matcher {
       if (u > 0.0 && u < (b4 - b2).dot(along)) poly.push_back(pt(i));
     }
     poly.push_back(b4);
+    drop_clusters(poly, along, down);
     close_notches(poly, along, down, gp.max_notch_mm);
     // B3: the bottom midway between the toes. It must rest on the bottom as
     // seen: the polyline's piece under it no longer than a notch (a root
@@ -1885,6 +1886,40 @@ class Matcher {
     const Vec2 t = wall.project(c);
     if ((t - foot).dot(up) < -tol_) return std::nullopt;
     return t;
+  }
+
+  // Removes from the polyline (not its ends, the toes) each run of 1 to
+  // kMaxClusterPoints points that a steep jump (more than 3 surface
+  // tolerances across, twice as far as along) leaves and another, the
+  // other way, comes back from to about where it left: a reflection cluster
+  // displaced in front of or behind the bottom (the outlier step keeps it
+  // when its neighbours are no straight line: a bead's cap, a radius). A
+  // root face or a wall, each step the same way, is no such run.
+  static constexpr int kMaxClusterPoints = 5;
+  void drop_clusters(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down) const {
+    auto jump = [&](const Vec2& d) {
+      const double v = d.dot(down);
+      return std::abs(v) > std::max(3.0 * tol_, 2.0 * std::abs(d.dot(along))) ? (v > 0.0 ? 1 : -1) : 0;
+    };
+    std::size_t out = 1;
+    for (std::size_t i = 1; i + 1 < poly.size();) {
+      const int in = jump(poly[i] - poly[out - 1]);
+      std::size_t end = 0;  // one past the run, if it is a cluster
+      for (std::size_t j = i; in != 0 && j + 1 < poly.size() && j < i + kMaxClusterPoints; ++j) {
+        const int back = jump(poly[j + 1] - poly[j]);
+        if (back == 0) continue;
+        const double left = (poly[i] - poly[out - 1]).dot(down), gap = (poly[j + 1] - poly[out - 1]).dot(down);
+        if (back == -in && std::abs(gap) < 0.5 * std::abs(left)) end = j + 1;
+        break;
+      }
+      if (end) {
+        i = end;
+        continue;
+      }
+      poly[out++] = poly[i++];
+    }
+    if (poly.size() > 1) poly[out++] = poly.back();
+    poly.resize(out);
   }
 
   // Closes each notch of the polyline narrower than max_mm along `along`
