@@ -1053,17 +1053,19 @@ class Matcher {
           // the upper plate's end and the next ray; the face is square to it.
           // Points between the plates on the upper plate's line (a noisy
           // piece too short to be a segment of its own) still belong to it.
-          // Points behind the lower plate are no surface of the joint (a
-          // reflection cluster displaced away from the sensor): the upper
-          // plate reaches past them to its points beyond.
+          // Points behind the lower plate or in front of the upper one are
+          // no surface of a lap (reflection clusters displaced along their
+          // rays): the upper plate reaches past them to its points beyond.
           int u_edge = u_end;
           auto on_upper = [&](int i) {
             return upper.line.distance(pt(i)) <= tol_ && lower.line.distance(pt(i)) > tol_;
           };
-          auto behind_lower = [&](int i) { return lower.line.signed_distance(pt(i)) < -tol_; };
+          auto no_surface = [&](int i) {
+            return lower.line.signed_distance(pt(i)) < -tol_ || upper.line.signed_distance(pt(i)) > tol_;
+          };
           const int step = upper_is_b ? -1 : +1;
           for (int i = u_edge + step; i >= from && i <= to; i += step) {
-            if (behind_lower(i)) continue;
+            if (no_surface(i)) continue;
             if (!on_upper(i)) break;
             u_edge = i;
           }
