@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
   FILE* features = features_path.empty() ? nullptr : std::fopen(features_path.c_str(), "w");
   if (features)
     std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
-                           "noise_mm,track_unc,edge_unc,readings,hidden,reason\n");
+                           "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason\n");
   std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
   // (joint, tag) -> profiles with it, and of them right / imprecise / rejected / false.
@@ -129,12 +129,14 @@ int main(int argc, char** argv) {
       const double level = o.levels[(n_seen++ / o.profiles) % o.levels.size()];
       const double rival_mm = r.rival_track_point && r.track_point ? (*r.rival_track_point - *r.track_point).norm() : -1.0;
       std::string reason = r.reason.substr(0, r.reason.find_first_of(":,("));
-      std::fprintf(features, "%s,%llu,%g,%s,%.4f,%s,%.5f,%.4f,%.4f,%.3f,%.5f,%.4f,%.4f,%zu,%d,%s\n",
+      const double rival_error =
+          r.rival_track_point ? (*r.rival_track_point - tk::Vec2(p.truth.track_y_mm, p.truth.track_z_mm)).norm() : -1.0;
+      std::fprintf(features, "%s,%llu,%g,%s,%.4f,%s,%.5f,%.4f,%.4f,%.3f,%.5f,%.4f,%.4f,%zu,%d,%.3f,%s\n",
                    vc::joint_name(p.truth.joint), static_cast<unsigned long long>(p.truth.seed), level,
                    std::string(tk::to_string(s.outcome)).c_str(), s.track_error_mm,
                    std::string(tk::to_string(r.status)).c_str(), r.confidence, r.strength, r.rival_strength, rival_mm,
                    r.noise_mm, r.track_uncertainty_mm, r.edge_uncertainty_mm, r.readings.size(),
-                   p.truth.has_tag("joint_hidden") || p.truth.has_tag("notch_unseen") ? 1 : 0, reason.c_str());
+                   p.truth.has_tag("joint_hidden") || p.truth.has_tag("notch_unseen") ? 1 : 0, rival_error, reason.c_str());
     }
     if (s.outcome != tk::Outcome::False && s.outcome != tk::Outcome::Imprecise) return;
     const tk::JointType j = joint_of(p.truth.joint);
