@@ -1008,6 +1008,9 @@ class Matcher {
         const Vec2 u_dir = outward(upper, u_near);
         for (int i = f_from; i <= f_to; ++i) {
           if (lower.line.distance(pt(i)) <= tol_ || upper.line.distance(pt(i)) <= tol_) continue;
+          // In front of the upper plate or behind the lower one: no surface
+          // of a lap (a reflection cluster), no face point.
+          if (upper.line.signed_distance(pt(i)) > tol_ || lower.line.signed_distance(pt(i)) < -tol_) continue;
           if (p_.square_edges && -upper.line.signed_distance(pt(i)) <= (pt(i) - u_near).dot(u_dir) + tol_) continue;
           scratch_.push_back(pt(i));
         }
