@@ -1911,11 +1911,12 @@ class Matcher {
       const int in = jump(poly[i] - poly[out - 1]);
       std::size_t end = 0;  // one past the run, if it is a cluster
       for (std::size_t j = i; in != 0 && j + 1 < poly.size() && j < i + kMaxClusterPoints; ++j) {
-        const int back = jump(poly[j + 1] - poly[j]);
-        if (back == 0) continue;
+        if (jump(poly[j + 1] - poly[j]) != -in) continue;
         const double left = (poly[i] - poly[out - 1]).dot(down), gap = (poly[j + 1] - poly[out - 1]).dot(down);
-        if (back == -in && std::abs(gap) < 0.5 * std::abs(left)) end = j + 1;
-        break;
+        if (std::abs(gap) < 0.5 * std::abs(left)) {
+          end = j + 1;
+          break;
+        }
       }
       if (end) {
         i = end;
