@@ -1,9 +1,10 @@
 // vts-score-corpus: the tracker on the independent corpus (tests/corpus), as
 // the table of docs/JOINTS.md "Scores".
 //   vts-score-corpus [--profiles N] [--first-seed S] [--joint NAME]... [--camera-in-plane]
-//                    [--failures N]
+//                    [--failures N] [--tag-stats] [--features FILE] [--dump JOINT SEED LEVEL PREFIX]
 // --failures N prints up to N false reads and imprecise readings per joint
-// (seed, tags, result) for a look at them.
+// (seed, tags, result) for a look at them; --features FILE writes one CSV
+// line per profile (outcome, error, confidence terms, rival).
 #include <array>
 #include <cstdio>
 #include <cstdlib>
