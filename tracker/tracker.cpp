@@ -1692,6 +1692,36 @@ class Matcher {
       if (dn.dot(down) < 0.0) dn = -dn;
       if (std::abs(deeper) > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
     }
+    // A J's square wall seen through the root gap runs on down as its root
+    // face, and its seen end is the root face's foot; its toe is the root
+    // edge, at the level of the bottom's shoulder across the gap (the
+    // radius' lowest point): the first bottom point from the square wall
+    // that is not on it and lies above its seen end, with rays into the gap
+    // between (invalid columns, or points deeper than the shoulder). A bead
+    // meeting the wall leaves no gap there.
+    if (joint == JointType::JGroove) {
+      Vec2& sq = square_a ? b2 : b4;
+      const Line& sq_line = square_a ? la : lb;
+      const int step = square_a ? +1 : -1, first = square_a ? bot_first : bot_last;
+      const int foot_i = square_a ? (wa ? wa->last : a.last) : (wb ? wb->first : b.first);
+      bool deep_between = false;
+      for (int i = first; i >= bot_first && i <= bot_last; i += step) {
+        if (sq_line.distance(pt(i)) <= tol_) continue;
+        const double above = (sq - pt(i)).dot(down);
+        if (above <= tol_) {
+          deep_between = true;  // a ray into the gap
+          continue;
+        }
+        const bool gap = deep_between || s_.invalid_columns_between(std::min(s_.cols[foot_i], s_.cols[i]),
+                                                                    std::max(s_.cols[foot_i], s_.cols[i])) > 0;
+        if (gap) {
+          Vec2 dn = sq_line.direction();
+          if (dn.dot(down) < 0.0) dn = -dn;
+          sq -= above / std::max(0.2, dn.dot(down)) * dn;
+        }
+        break;
+      }
+    }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
     Line top;
