@@ -1778,9 +1778,13 @@ class Matcher {
       while (hi_k + 1 < poly.size() && std::abs((poly[hi_k + 1] - b3).dot(along)) <= kB3SupportMm) ++hi_k;
       int best_in = -1;
       Line best_line;
-      const std::size_t stride = std::max<std::size_t>(1, (hi_k - lo_k + 1) / 24);
+      // About 16 lines, each counted on about 32 of the points (dense
+      // profiles have hundreds there).
+      const std::size_t m = hi_k - lo_k + 1, stride = std::max<std::size_t>(1, m / 16),
+                        every = std::max<std::size_t>(1, m / 32);
+      std::size_t j = lo_k + 1;
       for (std::size_t i = lo_k; i <= hi_k; i += stride) {
-        std::size_t j = i + 1;
+        j = std::max(j, i + 1);
         while (j < hi_k && (poly[j] - poly[i]).dot(along) < kB3SupportMm) ++j;
         if (j > hi_k || (poly[j] - poly[i]).norm() < 1e-9) continue;
         Line l;
@@ -1788,7 +1792,7 @@ class Matcher {
         l.n = Vec2(-d.y(), d.x());
         l.c = l.n.dot(poly[i]);
         int in = 0;
-        for (std::size_t k = lo_k; k <= hi_k; ++k) in += l.distance(poly[k]) <= off_mm;
+        for (std::size_t k = lo_k; k <= hi_k; k += every) in += l.distance(poly[k]) <= off_mm;
         if (in > best_in) best_in = in, best_line = l;
       }
       if (best_in >= 3 && (best_line.distance(poly[under_k]) > off_mm || best_line.distance(poly[under_k + 1]) > off_mm)) {
@@ -1862,7 +1866,8 @@ class Matcher {
       const ConfidenceParams& cp = p_.confidence;
       int outside = 0, above = 0;
       auto look = [&](int from, int step, const Vec2& edge) {
-        for (int i = from; i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - edge).norm() <= cp.window_mm;
+        for (int i = from;
+             i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - edge).squaredNorm() <= cp.window_mm * cp.window_mm;
              i += step)
           ++outside, above += top.signed_distance(pt(i)) > tol_;
       };
@@ -2005,10 +2010,15 @@ class Matcher {
     const Vec2 b1 = *c.bp[1], b5 = *c.bp[5];
     double null_cost = 0.0, cost_model = 0.0, rms_a = 0.0, rms_b = 0.0;
     int na = 0, nb = 0;
-    for (int i = c.pa.first; i <= c.pb.last; ++i) {
+    // A top's points lie on a line from its edge outwards: those within w
+    // of the edge are the run next to it (found from the edge, not by
+    // looking at every point of a long top).
+    int first = c.pa.last + 1;
+    while (first > c.pa.first && (pt(first - 1) - b1).squaredNorm() <= w * w) --first;
+    for (int i = first; i <= c.pb.last; ++i) {
       const Vec2& q = pt(i);
       const bool on_a = i <= c.pa.last, on_b = i >= c.pb.first;
-      if ((on_a && (q - b1).norm() > w) || (on_b && (q - b5).norm() > w)) continue;
+      if (on_b && (q - b5).squaredNorm() > w * w) break;
       ++ev.points;
       const double d0 = top.distance(q);
       double d;
