@@ -944,7 +944,26 @@ class Matcher {
         c.add_line(Line{a.line.direction(), a.line.direction().dot(el.point)});
         c.add_line(Line{b.line.direction(), b.line.direction().dot(er.point)});
         c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
+        // A notch whose points all lie within a rounding's or chamfer's
+        // reach (kMaxRoundingMm) behind the faces is also what a closed
+        // corner with rounded or chamfered outer edges shows; a gap's slot
+        // goes deeper (rays into it meet the end faces far down, or
+        // nothing). Both readings then compete, the closed one at the apex,
+        // with the same lines: as strong as each other, the profile is
+        // ambiguous (rejected), not read 1-2 mm below the apex.
+        bool shallow = c.accepted && c.gap > 0.0 && from <= to;
+        for (int i = from; i <= to && shallow; ++i)
+          shallow = -std::max(a.line.signed_distance(pt(i)), b.line.signed_distance(pt(i))) <= kMaxRoundingMm;
         offer(c);
+        if (shallow) {
+          Candidate closed = c;
+          closed.gap = 0.0;
+          closed.edge_unc = closed.track_unc = 0.0;
+          closed.track = closed.bp[1] = closed.bp[3] = pr->x;
+          closed.score = c.score - 1;
+          if (c.accepted) closed.evidence = weigh(c), closed.weighed = true;  // over the same points
+          offer(closed);
+        }
       }
     }
   }
@@ -989,6 +1008,9 @@ class Matcher {
         const Vec2 u_dir = outward(upper, u_near);
         for (int i = f_from; i <= f_to; ++i) {
           if (lower.line.distance(pt(i)) <= tol_ || upper.line.distance(pt(i)) <= tol_) continue;
+          // In front of the upper plate or behind the lower one: no surface
+          // of a lap (a reflection cluster), no face point.
+          if (upper.line.signed_distance(pt(i)) > tol_ || lower.line.signed_distance(pt(i)) < -tol_) continue;
           if (p_.square_edges && -upper.line.signed_distance(pt(i)) <= (pt(i) - u_near).dot(u_dir) + tol_) continue;
           scratch_.push_back(pt(i));
         }
@@ -1034,19 +1056,27 @@ class Matcher {
           // the upper plate's end and the next ray; the face is square to it.
           // Points between the plates on the upper plate's line (a noisy
           // piece too short to be a segment of its own) still belong to it.
+          // Points behind the lower plate or in front of the upper one are
+          // no surface of a lap (reflection clusters displaced along their
+          // rays): the upper plate reaches past them to its points beyond.
           int u_edge = u_end;
           auto on_upper = [&](int i) {
             return upper.line.distance(pt(i)) <= tol_ && lower.line.distance(pt(i)) > tol_;
           };
-          if (upper_is_b)
-            while (u_edge - 1 >= from && on_upper(u_edge - 1)) --u_edge;
-          else
-            while (u_edge + 1 <= to && on_upper(u_edge + 1)) ++u_edge;
+          auto no_surface = [&](int i) {
+            return lower.line.signed_distance(pt(i)) < -tol_ || upper.line.signed_distance(pt(i)) > tol_;
+          };
+          const int step = upper_is_b ? -1 : +1;
+          for (int i = u_edge + step; i >= from && i <= to; i += step) {
+            if (no_surface(i)) continue;
+            if (!on_upper(i)) break;
+            u_edge = i;
+          }
           // So do the points removed as outliers there (a few upper plate
           // points cut off by a noisy point and the step: an island).
           Vec2 u_pt = pt(u_edge);
           int u_col = s_.cols[u_edge];
-          reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col);
+          reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col, &lower.line);
           const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
           const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true);
           top = e.point;
@@ -1148,7 +1178,10 @@ class Matcher {
   // `other`, if given), also past removed points in front of the line (a
   // reflection cluster displaced towards the sensor), not past one behind it
   // (a ray into a gap).
-  void reach_removed(const Line& l, const Line* other, int dir, int stop, Vec2& end_pt, int& end_col) const {
+  // With `floor` (a lap's lower plate), it also reaches past removed points
+  // behind that line: no surface lies there (a reflection cluster).
+  void reach_removed(const Line& l, const Line* other, int dir, int stop, Vec2& end_pt, int& end_col,
+                     const Line* floor = nullptr) const {
     if (!p_.reach_removed_points) return;
     const int lo = dir > 0 ? end_col : stop, hi = dir > 0 ? stop : end_col;
     const auto removed = outliers_between(lo, hi);
@@ -1161,7 +1194,7 @@ class Matcher {
       const Vec2& o = removed[k];
       const double d = l.signed_distance(o);
       if (std::abs(d) <= tol_ && (!other || other->distance(o) > tol_)) end_pt = o, end_col = col;
-      else if (d < 0.0) break;
+      else if (d < 0.0 && !(floor && floor->signed_distance(o) < -tol_)) break;
     }
   }
 
@@ -1537,6 +1570,10 @@ class Matcher {
     return std::nullopt;
   }
 
+  // The bottom at B3 must be one surface (groove_pair): B3's neighbours
+  // within kB3OffMm of the line most points within kB3SupportMm lie on.
+  static constexpr double kB3SupportMm = 1.5;
+  static constexpr double kB3OffMm = 0.5;
   void groove_pair(JointType joint, const Plate& a, const Plate& b) {
     const GrooveParams& gp = p_.groove;
     Candidate c;
@@ -1655,6 +1692,36 @@ class Matcher {
       if (dn.dot(down) < 0.0) dn = -dn;
       if (std::abs(deeper) > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
     }
+    // A J's square wall seen through the root gap runs on down as its root
+    // face, and its seen end is the root face's foot; its toe is the root
+    // edge, at the level of the bottom's shoulder across the gap (the
+    // radius' lowest point): the first bottom point from the square wall
+    // that is not on it and lies above its seen end, with rays into the gap
+    // between (invalid columns, or points deeper than the shoulder). A bead
+    // meeting the wall leaves no gap there.
+    if (joint == JointType::JGroove) {
+      Vec2& sq = square_a ? b2 : b4;
+      const Line& sq_line = square_a ? la : lb;
+      const int step = square_a ? +1 : -1, first = square_a ? bot_first : bot_last;
+      const int foot_i = square_a ? (wa ? wa->last : a.last) : (wb ? wb->first : b.first);
+      bool deep_between = false;
+      for (int i = first; i >= bot_first && i <= bot_last; i += step) {
+        if (sq_line.distance(pt(i)) <= tol_) continue;
+        const double above = (sq - pt(i)).dot(down);
+        if (above <= tol_) {
+          deep_between = true;  // a ray into the gap
+          continue;
+        }
+        const bool gap = deep_between || s_.invalid_columns_between(std::min(s_.cols[foot_i], s_.cols[i]),
+                                                                    std::max(s_.cols[foot_i], s_.cols[i])) > 0;
+        if (gap) {
+          Vec2 dn = sq_line.direction();
+          if (dn.dot(down) < 0.0) dn = -dn;
+          sq -= above / std::max(0.2, dn.dot(down)) * dn;
+        }
+        break;
+      }
+    }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
     Line top;
@@ -1669,16 +1736,72 @@ class Matcher {
       if (u > 0.0 && u < (b4 - b2).dot(along)) poly.push_back(pt(i));
     }
     poly.push_back(b4);
+    drop_clusters(poly, along, down);
     close_notches(poly, along, down, gp.max_notch_mm);
-    // B3: the bottom midway between the toes.
+    // B3: the bottom midway between the toes. It must rest on the bottom as
+    // seen: the polyline's piece under it no longer than a notch (a root
+    // gap closed at its shoulders, a dropout run); a longer piece joins
+    // points far apart (a wall seen to its end and nothing below it, a
+    // toe taken from a hidden wall), and B3 on it is a guess.
     const double u_mid = 0.5 * ((b2 - b1).dot(along) + (b4 - b1).dot(along));
     Vec2 b3 = 0.5 * (b2 + b4);
+    double under = (b4 - b2).norm();
+    std::size_t under_k = poly.size();  // B3 lies between poly[under_k] and the next
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
       if (u0 <= u_mid && u1 >= u_mid) {
         const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
+        under = (poly[k + 1] - poly[k]).norm();
+        under_k = k;
         break;
+      }
+    }
+    if (under > gp.max_notch_mm) {
+      std::snprintf(c.reason, sizeof c.reason,
+                    "the groove's bottom is not seen under the track point (its nearest points %.3g mm apart)", under);
+      c.track = b3;
+      offer(c);
+      return;
+    }
+    // And on the bottom's surface: B3's neighbours on the polyline must lie
+    // on the line that most of the bottom's points within kB3SupportMm of it
+    // (along the tops) lie on, within kB3OffMm (a bead's cap, a radius or a
+    // root is smooth over that length): a reflection cluster in front of or
+    // behind the bottom there put B3 on the cluster (3.4 mm off) while the
+    // bottom beside it was seen. The line: of the lines through two of those
+    // points about kB3SupportMm apart, the one most of them lie on.
+    if (under_k + 1 < poly.size()) {
+      const double off_mm = std::max(kB3OffMm, 3.0 * tol_);
+      std::size_t lo_k = under_k, hi_k = under_k + 1;
+      while (lo_k > 0 && std::abs((poly[lo_k - 1] - b3).dot(along)) <= kB3SupportMm) --lo_k;
+      while (hi_k + 1 < poly.size() && std::abs((poly[hi_k + 1] - b3).dot(along)) <= kB3SupportMm) ++hi_k;
+      int best_in = -1;
+      Line best_line;
+      // About 16 lines, each counted on about 32 of the points (dense
+      // profiles have hundreds there).
+      const std::size_t m = hi_k - lo_k + 1, stride = std::max<std::size_t>(1, m / 16),
+                        every = std::max<std::size_t>(1, m / 32);
+      std::size_t j = lo_k + 1;
+      for (std::size_t i = lo_k; i <= hi_k; i += stride) {
+        j = std::max(j, i + 1);
+        while (j < hi_k && (poly[j] - poly[i]).dot(along) < kB3SupportMm) ++j;
+        if (j > hi_k || (poly[j] - poly[i]).norm() < 1e-9) continue;
+        Line l;
+        const Vec2 d = (poly[j] - poly[i]).normalized();
+        l.n = Vec2(-d.y(), d.x());
+        l.c = l.n.dot(poly[i]);
+        int in = 0;
+        for (std::size_t k = lo_k; k <= hi_k; k += every) in += l.distance(poly[k]) <= off_mm;
+        if (in > best_in) best_in = in, best_line = l;
+      }
+      if (best_in >= 3 && (best_line.distance(poly[under_k]) > off_mm || best_line.distance(poly[under_k + 1]) > off_mm)) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the track point rests on points %.3g mm off the groove's bottom beside it (a reflection?)",
+                      std::max(best_line.distance(poly[under_k]), best_line.distance(poly[under_k + 1])));
+        c.track = b3;
+        offer(c);
+        return;
       }
     }
     // The lowest point of the bottom (each inner point smoothed over its
@@ -1734,6 +1857,27 @@ class Matcher {
       c.evidence = weigh_groove(c, wa ? wa->first : -1, wa ? wa->last : -1, wb ? wb->first : -1, wb ? wb->last : -1, la,
                                 lb, top);
       c.weighed = true;
+      // Tops are the work's surface: beyond a top's outer end (within
+      // window_mm of its edge) nothing of the work stands in front of the
+      // tops' line. Points there are a surface the reading cannot explain:
+      // its "top" lies inside a wider groove (a bead's flat cap or crest
+      // paired with a plate top), and the groove that explains them is
+      // another reading.
+      const ConfidenceParams& cp = p_.confidence;
+      int outside = 0, above = 0;
+      auto look = [&](int from, int step, const Vec2& edge) {
+        for (int i = from;
+             i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - edge).squaredNorm() <= cp.window_mm * cp.window_mm;
+             i += step)
+          ++outside, above += top.signed_distance(pt(i)) > tol_;
+      };
+      look(a.first - 1, -1, b1);
+      look(b.last + 1, +1, b5);
+      if (above > cp.unexplained_points + cp.unexplained_share * (c.evidence.points + outside)) {
+        c.accepted = false;
+        std::snprintf(c.reason, sizeof c.reason,
+                      "a top lies inside a wider groove: %d points beyond the tops stand in front of them", above);
+      }
     }
     offer(c);
   }
@@ -1784,6 +1928,41 @@ class Matcher {
     return t;
   }
 
+  // Removes from the polyline (not its ends, the toes) each run of 1 to
+  // kMaxClusterPoints points that a steep jump (more than 3 surface
+  // tolerances across, twice as far as along) leaves and another, the
+  // other way, comes back from to about where it left: a reflection cluster
+  // displaced in front of or behind the bottom (the outlier step keeps it
+  // when its neighbours are no straight line: a bead's cap, a radius). A
+  // root face or a wall, each step the same way, is no such run.
+  static constexpr int kMaxClusterPoints = 5;
+  void drop_clusters(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down) const {
+    auto jump = [&](const Vec2& d) {
+      const double v = d.dot(down);
+      return std::abs(v) > std::max(3.0 * tol_, 2.0 * std::abs(d.dot(along))) ? (v > 0.0 ? 1 : -1) : 0;
+    };
+    std::size_t out = 1;
+    for (std::size_t i = 1; i + 1 < poly.size();) {
+      const int in = jump(poly[i] - poly[out - 1]);
+      std::size_t end = 0;  // one past the run, if it is a cluster
+      for (std::size_t j = i; in != 0 && j + 1 < poly.size() && j < i + kMaxClusterPoints; ++j) {
+        if (jump(poly[j + 1] - poly[j]) != -in) continue;
+        const double left = (poly[i] - poly[out - 1]).dot(down), gap = (poly[j + 1] - poly[out - 1]).dot(down);
+        if (std::abs(gap) < 0.5 * std::abs(left)) {
+          end = j + 1;
+          break;
+        }
+      }
+      if (end) {
+        i = end;
+        continue;
+      }
+      poly[out++] = poly[i++];
+    }
+    if (poly.size() > 1) poly[out++] = poly.back();
+    poly.resize(out);
+  }
+
   // Closes each notch of the polyline narrower than max_mm along `along`
   // whose inner points all lie on or deeper (along `down`) than the chord
   // between its shoulders, the deepest by half its width or more: the points
@@ -1831,10 +2010,15 @@ class Matcher {
     const Vec2 b1 = *c.bp[1], b5 = *c.bp[5];
     double null_cost = 0.0, cost_model = 0.0, rms_a = 0.0, rms_b = 0.0;
     int na = 0, nb = 0;
-    for (int i = c.pa.first; i <= c.pb.last; ++i) {
+    // A top's points lie on a line from its edge outwards: those within w
+    // of the edge are the run next to it (found from the edge, not by
+    // looking at every point of a long top).
+    int first = c.pa.last + 1;
+    while (first > c.pa.first && (pt(first - 1) - b1).squaredNorm() <= w * w) --first;
+    for (int i = first; i <= c.pb.last; ++i) {
       const Vec2& q = pt(i);
       const bool on_a = i <= c.pa.last, on_b = i >= c.pb.first;
-      if ((on_a && (q - b1).norm() > w) || (on_b && (q - b5).norm() > w)) continue;
+      if (on_b && (q - b5).squaredNorm() > w * w) break;
       ++ev.points;
       const double d0 = top.distance(q);
       double d;

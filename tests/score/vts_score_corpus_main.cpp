@@ -1,9 +1,10 @@
 // vts-score-corpus: the tracker on the independent corpus (tests/corpus), as
 // the table of docs/JOINTS.md "Scores".
 //   vts-score-corpus [--profiles N] [--first-seed S] [--joint NAME]... [--camera-in-plane]
-//                    [--failures N]
+//                    [--failures N] [--tag-stats] [--features FILE] [--dump JOINT SEED LEVEL PREFIX]
 // --failures N prints up to N false reads and imprecise readings per joint
-// (seed, tags, result) for a look at them.
+// (seed, tags, result) for a look at them; --features FILE writes one CSV
+// line per profile (outcome, error, confidence terms, rival).
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
   RunOptions o;
   int failures = 0;
   bool tag_stats = false;
+  std::string features_path;
   std::vector<vc::Joint> joints;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
     else if (a == "--camera-in-plane") o.camera_in_laser_plane = true;
     else if (a == "--failures") failures = std::atoi(value());
     else if (a == "--tag-stats") tag_stats = true;
+    else if (a == "--features") features_path = value();
     else if (a == "--dump") {
       // --dump JOINT SEED LEVEL PREFIX: one profile and its reading, for a plot
       // (tests/score/plot_reading.py).
@@ -102,6 +105,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "vts-score-corpus: --profiles must be positive\n");
     return 2;
   }
+  // --features FILE: one CSV line per profile (outcome, error, the reading's
+  // confidence terms), to look for what separates false reads from right ones.
+  FILE* features = features_path.empty() ? nullptr : std::fopen(features_path.c_str(), "w");
+  if (features)
+    std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
+                           "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason\n");
+  std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
   // (joint, tag) -> profiles with it, and of them right / imprecise / rejected / false.
   std::map<std::pair<std::string, std::string>, std::array<int, 5>> tags;
@@ -115,6 +125,20 @@ int main(int argc, char** argv) {
       count("(all)");
       for (const auto& t : p.truth.tags) count(t);
     }
+    if (features) {
+      // run() reads joint by joint, level by level: the row of this profile.
+      const double level = o.levels[(n_seen++ / o.profiles) % o.levels.size()];
+      const double rival_mm = r.rival_track_point && r.track_point ? (*r.rival_track_point - *r.track_point).norm() : -1.0;
+      std::string reason = r.reason.substr(0, r.reason.find_first_of(":,("));
+      const double rival_error =
+          r.rival_track_point ? (*r.rival_track_point - tk::Vec2(p.truth.track_y_mm, p.truth.track_z_mm)).norm() : -1.0;
+      std::fprintf(features, "%s,%llu,%g,%s,%.4f,%s,%.5f,%.4f,%.4f,%.3f,%.5f,%.4f,%.4f,%zu,%d,%.3f,%s\n",
+                   vc::joint_name(p.truth.joint), static_cast<unsigned long long>(p.truth.seed), level,
+                   std::string(tk::to_string(s.outcome)).c_str(), s.track_error_mm,
+                   std::string(tk::to_string(r.status)).c_str(), r.confidence, r.strength, r.rival_strength, rival_mm,
+                   r.noise_mm, r.track_uncertainty_mm, r.edge_uncertainty_mm, r.readings.size(),
+                   p.truth.has_tag("joint_hidden") || p.truth.has_tag("notch_unseen") ? 1 : 0, rival_error, reason.c_str());
+    }
     if (s.outcome != tk::Outcome::False && s.outcome != tk::Outcome::Imprecise) return;
     const tk::JointType j = joint_of(p.truth.joint);
     if (shown[j]++ >= failures) return;
@@ -126,6 +150,7 @@ int main(int argc, char** argv) {
                 std::string(tk::to_string(r.status)).c_str(), r.reason.empty() ? "" : (": " + r.reason).c_str(),
                 r.confidence, r.track_uncertainty_mm, tags.c_str());
   });
+  if (features) std::fclose(features);
   std::printf("%s", table.markdown().c_str());
   if (tag_stats) {
     std::printf("\n| joint | tag | profiles | right | imprecise | rejected | false |\n|---|---|---|---|---|---|---|\n");

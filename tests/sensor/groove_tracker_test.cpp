@@ -45,12 +45,11 @@ Vec2 to_sensor(const Workpiece& w, const Pose& pose, const Vec2& yz) {
 TEST_CASE("groove cells: the groove model against the analytic truth", "[sensor][groove]") {
   const Case cases[] = {{"vgroove-thick", 0.0}, {"bevel", 0.0},         {"bevel-thick", 0.0},
                         {"ugroove", 0.0},       {"ugroove-fill", 0.0},  {"jgroove", 0.0},
-                        {"vgroove-thick", 400.0}, {"bevel-thick", 400.0}, {"bevel", 95.0}};
-  // Not held: the jgroove seen from 95 mm by lps-2048-short reads 1.6 mm too
-  // deep: its square wall shows on down as the root face through the gap,
-  // and the square toe is put at the root face's foot (docs/JOINTS.md,
-  // "Grooves and fill": the bevel's rule for this does not serve the J,
-  // whose other toe is up at its radius).
+                        {"vgroove-thick", 400.0}, {"bevel-thick", 400.0}, {"bevel", 95.0}, {"jgroove", 95.0}};
+  // The jgroove seen from 95 mm by lps-2048-short: its square wall shows on
+  // down as the root face through the gap; the square toe is the root edge,
+  // at the level of the radius' lowest point across the gap, not the root
+  // face's foot (1.6 mm too deep before: docs/JOINTS.md, "Grooves and fill").
   for (const Case& c : cases) {
     auto cell = builtin_cell(c.cell);
     REQUIRE(cell);
