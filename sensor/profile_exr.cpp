@@ -12,10 +12,12 @@
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
+#include <ImfCompression.h>
 #include <ImfStdIO.h>
 #include <openexr.h>
 #include <ImfStringAttribute.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -559,6 +561,21 @@ struct Reader {
   std::array<std::vector<float>, 8> row_f;
   std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
   std::optional<Imf::InputPart> profiles_part, rows_part;
+  // Part "profiles" decoded here rather than by OpenEXR 3.1, which copies
+  // every float out of a decompressed block byte by byte (most of a read's
+  // time): when it is ZIP, ZIPS or uncompressed with full-resolution
+  // channels on a little-endian machine. Anything unexpected in a block
+  // hands it back to OpenEXR (readPixels), so bad data gets OpenEXR's
+  // message.
+  struct Direct {
+    bool usable = false;
+    bool zip = false;
+    int lines = 1;                // rows per block
+    std::size_t row_bytes = 0;    // one row of every channel
+    std::array<std::size_t, kPointSlots> offset{};  // of a slot's channel in a row
+    std::vector<unsigned char> packed, block;
+    int block_first = -1;         // first row of the block held in `block`
+  } direct;
 
   ExrError fail(const std::string& what) const { return ExrError(where(path) + ": " + what); }
 
@@ -635,6 +652,10 @@ struct Reader {
   }
 
   void open();
+  void open_direct();
+  // Rows first .. first + rows - 1 into `points` by `direct`; false when it
+  // cannot (nothing to trust in `points` then).
+  bool read_direct(int first, int rows);
   // Rows first .. first + rows - 1 (rows <= kChunkRows) into profiles[0 ..
   // rows - 1] and, when not null, reference[] (with has_reference) and
   // row_values[].
@@ -744,6 +765,84 @@ void Reader::open() {
   }
   profiles_part.emplace(in, 0);
   if (!v1) rows_part.emplace(in, 1);
+  open_direct();
+}
+
+void Reader::open_direct() {
+  Direct& d = direct;
+  if (v1 || std::endian::native != std::endian::little) return;
+  switch (header->compression()) {
+    case Imf::ZIP_COMPRESSION: d.zip = true, d.lines = 16; break;
+    case Imf::ZIPS_COMPRESSION: d.zip = true, d.lines = 1; break;
+    case Imf::NO_COMPRESSION: d.zip = false, d.lines = 1; break;
+    default: return;
+  }
+  // A block is its rows one after the other, each row every channel in the
+  // channel list's (alphabetical) order, little-endian.
+  std::size_t at = 0;
+  for (auto it = header->channels().begin(); it != header->channels().end(); ++it) {
+    const Imf::Channel& ch = it.channel();
+    if (ch.xSampling != 1 || ch.ySampling != 1) return;
+    for (int c : slots)
+      if (std::string_view(it.name()) == kPointNames[c]) d.offset[c] = at;
+    at += std::size_t(width) * (ch.type == Imf::HALF ? 2 : 4);
+  }
+  d.row_bytes = at;
+  d.usable = true;
+}
+
+bool Reader::read_direct(int first, int rows) {
+  Direct& d = direct;
+  if (!d.usable) return false;
+  try {
+    for (int y = first; y < first + rows;) {
+      const int block_first = y / d.lines * d.lines;
+      const int block_rows = std::min(d.lines, height - block_first);
+      const std::size_t bytes = std::size_t(block_rows) * d.row_bytes;
+      if (d.block_first != block_first) {
+        d.block_first = -1;
+        const char* data = nullptr;
+        int size = 0;
+        profiles_part->rawPixelData(block_first, data, size);
+        d.block.resize(bytes);
+        if (size < 0) return false;
+        if (!d.zip || std::size_t(size) >= bytes) {
+          // Stored as is (a compressor keeps a block it cannot shrink).
+          if (std::size_t(size) != bytes) return false;
+          std::memcpy(d.block.data(), data, bytes);
+        } else {
+          // OpenEXR's ZIP: zlib, then a byte-wise delta, then the two halves
+          // interleaved (ImfZip.cpp).
+          d.packed.resize(bytes);
+          uLongf out = bytes;
+          if (uncompress(d.packed.data(), &out, reinterpret_cast<const Bytef*>(data), uLong(size)) != Z_OK ||
+              out != bytes)
+            return false;
+          unsigned char* t = d.packed.data();
+          for (std::size_t i = 1; i < bytes; ++i) t[i] = static_cast<unsigned char>(int(t[i - 1]) + int(t[i]) - 128);
+          const unsigned char* t1 = t;
+          const unsigned char* t2 = t + (bytes + 1) / 2;
+          unsigned char* o = d.block.data();
+          for (std::size_t i = 0; i + 1 < bytes; i += 2) {
+            o[i] = *t1++;
+            o[i + 1] = *t2++;
+          }
+          if (bytes % 2) o[bytes - 1] = *t1;
+        }
+        d.block_first = block_first;
+      }
+      const int end = std::min(first + rows, block_first + block_rows);
+      for (; y < end; ++y)
+        for (int c : slots)
+          std::memcpy(points[c].data() + std::size_t(y - first) * width,
+                      d.block.data() + std::size_t(y - block_first) * d.row_bytes + d.offset[c],
+                      std::size_t(width) * sizeof(float));
+    }
+  } catch (const std::exception&) {
+    d.block_first = -1;
+    return false;
+  }
+  return true;
 }
 
 void Reader::read_block(int first, int rows, Profile* profiles, Profile* reference,
@@ -768,8 +867,10 @@ void Reader::read_block(int first, int rows, Profile* profiles, Profile* referen
       rfb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, row_w,
                                                     kChunkRows, ustride, ustride, row_xs, 1));
     }
-    profiles_part->setFrameBuffer(fb);
-    profiles_part->readPixels(first, first + rows - 1);
+    if (!read_direct(first, rows)) {
+      profiles_part->setFrameBuffer(fb);
+      profiles_part->readPixels(first, first + rows - 1);
+    }
     if (rows_part) {
       rows_part->setFrameBuffer(rows_fb);
       rows_part->readPixels(first, first + rows - 1);
