@@ -18,6 +18,9 @@
 #include <ImfStringAttribute.h>
 #include <unistd.h>
 #include <zlib.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -28,6 +31,7 @@
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -545,6 +549,46 @@ void ProfileExrWriter::finish() {
 
 namespace {
 
+// OpenEXR's ZIP predictor undone in place: t[i] += t[i - 1] - 128 from i = 1
+// on (a running sum of bytes, modulo 256), 16 bytes at a time.
+void undo_zip_predictor(unsigned char* t, std::size_t n) {
+  std::size_t i = 1;
+#if defined(__SSE2__)
+  const __m128i bias = _mm_set1_epi8(static_cast<char>(-128));
+  for (; i + 16 <= n; i += 16) {
+    __m128i v = _mm_add_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t + i)), bias);
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 1));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 2));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 4));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 8));
+    v = _mm_add_epi8(v, _mm_set1_epi8(static_cast<char>(t[i - 1])));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(t + i), v);
+  }
+#endif
+  for (; i < n; ++i) t[i] = static_cast<unsigned char>(int(t[i - 1]) + int(t[i]) - 128);
+}
+
+// OpenEXR's ZIP byte order undone: out takes bytes from the first and the
+// second half of t in turn.
+void deinterleave(const unsigned char* t, std::size_t n, unsigned char* out) {
+  const unsigned char* t1 = t;
+  const unsigned char* t2 = t + (n + 1) / 2;
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  for (; i + 32 <= n; i += 32, t1 += 16, t2 += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t1));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t2));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_unpacklo_epi8(a, b));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i + 16), _mm_unpackhi_epi8(a, b));
+  }
+#endif
+  for (; i + 1 < n; i += 2) {
+    out[i] = *t1++;
+    out[i + 1] = *t2++;
+  }
+  if (i < n) out[i] = *t1;
+}
+
 // A profile EXR open for reading: open() reads and checks the header,
 // read_block() then converts up to kChunkRows rows at a time.
 struct Reader {
@@ -573,8 +617,14 @@ struct Reader {
     int lines = 1;                // rows per block
     std::size_t row_bytes = 0;    // one row of every channel
     std::array<std::size_t, kPointSlots> offset{};  // of a slot's channel in a row
-    std::vector<unsigned char> packed, block;
-    int block_first = -1;         // first row of the block held in `block`
+    // Per block of a read: its bytes as stored (OpenEXR reuses its buffer
+    // from block to block), the delta-coded bytes, the decoded block. The
+    // last block read stays decoded for the next read.
+    struct Block {
+      std::vector<unsigned char> raw, packed, data;
+    };
+    std::vector<Block> blocks;
+    int cached = -1;  // index of the block decoded in blocks[0] at the start of a read
   } direct;
 
   ExrError fail(const std::string& what) const { return ExrError(where(path) + ": " + what); }
@@ -791,57 +841,65 @@ void Reader::open_direct() {
   d.usable = true;
 }
 
+// `raw`, block of `bytes` decoded bytes as stored, into `out`; false if it
+// does not decode to exactly that many.
+bool decode_block(bool zip, const std::vector<unsigned char>& raw, std::size_t bytes,
+                  std::vector<unsigned char>& packed, std::vector<unsigned char>& out) {
+  out.resize(bytes);
+  if (!zip || raw.size() >= bytes) {
+    // Stored as is (a compressor keeps a block it cannot shrink).
+    if (raw.size() != bytes) return false;
+    std::memcpy(out.data(), raw.data(), bytes);
+    return true;
+  }
+  // OpenEXR's ZIP: zlib, then a byte-wise delta, then the two halves
+  // interleaved (ImfZip.cpp).
+  packed.resize(bytes);
+  uLongf got = bytes;
+  if (uncompress(packed.data(), &got, raw.data(), uLong(raw.size())) != Z_OK || got != bytes) return false;
+  undo_zip_predictor(packed.data(), bytes);
+  deinterleave(packed.data(), bytes, out.data());
+  return true;
+}
+
 bool Reader::read_direct(int first, int rows) {
   Direct& d = direct;
   if (!d.usable) return false;
+  const int b0 = first / d.lines, b1 = (first + rows - 1) / d.lines;
+  const std::size_t count = std::size_t(b1 - b0 + 1);
+  if (d.blocks.size() < count) d.blocks.resize(count);
+  const bool have_first = d.cached == b0;
+  d.cached = -1;
+  auto block_bytes = [&](int b) { return std::size_t(std::min(d.lines, height - b * d.lines)) * d.row_bytes; };
   try {
-    for (int y = first; y < first + rows;) {
-      const int block_first = y / d.lines * d.lines;
-      const int block_rows = std::min(d.lines, height - block_first);
-      const std::size_t bytes = std::size_t(block_rows) * d.row_bytes;
-      if (d.block_first != block_first) {
-        d.block_first = -1;
-        const char* data = nullptr;
-        int size = 0;
-        profiles_part->rawPixelData(block_first, data, size);
-        d.block.resize(bytes);
-        if (size < 0) return false;
-        if (!d.zip || std::size_t(size) >= bytes) {
-          // Stored as is (a compressor keeps a block it cannot shrink).
-          if (std::size_t(size) != bytes) return false;
-          std::memcpy(d.block.data(), data, bytes);
-        } else {
-          // OpenEXR's ZIP: zlib, then a byte-wise delta, then the two halves
-          // interleaved (ImfZip.cpp).
-          d.packed.resize(bytes);
-          uLongf out = bytes;
-          if (uncompress(d.packed.data(), &out, reinterpret_cast<const Bytef*>(data), uLong(size)) != Z_OK ||
-              out != bytes)
-            return false;
-          unsigned char* t = d.packed.data();
-          for (std::size_t i = 1; i < bytes; ++i) t[i] = static_cast<unsigned char>(int(t[i - 1]) + int(t[i]) - 128);
-          const unsigned char* t1 = t;
-          const unsigned char* t2 = t + (bytes + 1) / 2;
-          unsigned char* o = d.block.data();
-          for (std::size_t i = 0; i + 1 < bytes; i += 2) {
-            o[i] = *t1++;
-            o[i + 1] = *t2++;
-          }
-          if (bytes % 2) o[bytes - 1] = *t1;
-        }
-        d.block_first = block_first;
-      }
-      const int end = std::min(first + rows, block_first + block_rows);
-      for (; y < end; ++y)
-        for (int c : slots)
-          std::memcpy(points[c].data() + std::size_t(y - first) * width,
-                      d.block.data() + std::size_t(y - block_first) * d.row_bytes + d.offset[c],
-                      std::size_t(width) * sizeof(float));
+    for (std::size_t k = have_first ? 1 : 0; k < count; ++k) {
+      const char* data = nullptr;
+      int size = 0;
+      profiles_part->rawPixelData((b0 + int(k)) * d.lines, data, size);
+      if (size < 0) return false;
+      d.blocks[k].raw.assign(data, data + size);
     }
   } catch (const std::exception&) {
-    d.block_first = -1;
     return false;
   }
+  // The blocks decoded on the vts threads (zlib is most of a read).
+  std::atomic<bool> ok{true};
+  parallel_for(count - (have_first ? 1 : 0), [&](std::size_t i) {
+    const std::size_t k = i + (have_first ? 1 : 0);
+    Direct::Block& b = d.blocks[k];
+    if (!decode_block(d.zip, b.raw, block_bytes(b0 + int(k)), b.packed, b.data)) ok = false;
+  });
+  if (!ok) return false;
+  for (int y = first; y < first + rows; ++y) {
+    const int b = y / d.lines;
+    const unsigned char* row = d.blocks[std::size_t(b - b0)].data.data() + std::size_t(y - b * d.lines) * d.row_bytes;
+    for (int c : slots)
+      std::memcpy(points[c].data() + std::size_t(y - first) * width, row + d.offset[c],
+                  std::size_t(width) * sizeof(float));
+  }
+  // The last block, if the next read may start in it.
+  if (count > 1) std::swap(d.blocks[0], d.blocks[count - 1]);
+  d.cached = b1;
   return true;
 }
 
