@@ -110,7 +110,7 @@ tk::Range option_range(const std::string& option, const std::string& text, const
 }
 
 int run_track(const TrackOptions& o) {
-  // Everything is read and checked before anything is written.
+  // The options and the recording's header are read and checked before anything is written.
   std::optional<tk::JointType> joint;
   if (!o.joint.empty()) {
     joint = tk::joint_type_from_string(o.joint);
@@ -136,17 +136,18 @@ int run_track(const TrackOptions& o) {
   if (o.truth && recording_format(o.input) == RecordingFormat::Csv)
     throw InputError("--truth: " + o.input + " is a CSV file; only EXR files recorded with the error model carry "
                      "ground truth");
-  TrackInput input;
+  std::optional<TrackInputReader> reader;
   try {
-    input = read_track_input(o.input);
+    reader.emplace(o.input);
   } catch (const TrackInputError& e) {
     throw InputError(e.what());
   }
+  const TrackInputInfo& input = reader->info();
   if (o.truth && !input.has_truth)
     throw InputError("--truth: " + o.input +
                      " has no ground truth channels (true.y, true.z, true.valid: written only when the error "
                      "model is on)");
-  if (o.truth) use_truth(input);
+  if (o.truth) reader->use_truth();
 
   // Joint: --joint, else the params file's, else the recording's scene, else fillet.
   if (!joint) joint = file.joint;
@@ -184,9 +185,15 @@ int run_track(const TrackOptions& o) {
     if (!out_file->is_open()) throw std::runtime_error("cannot create " + out_file->temp_path().string());
   }
   std::ostream& out = out_file ? out_file->stream() : std::cout;
-  track_recording(input, params, tracking, [&out](const std::string& line) {
-    out.write(line.data(), static_cast<std::streamsize>(line.size()));
-  });
+  // The recording is read as it is tracked: bad profiles further on throw
+  // after some lines were written; the temporary file then goes.
+  try {
+    track_recording(*reader, params, tracking, [&out](const std::string& line) {
+      out.write(line.data(), static_cast<std::streamsize>(line.size()));
+    });
+  } catch (const TrackInputError& e) {
+    throw InputError(e.what());
+  }
   out.flush();
   if (out_file) out_file->commit();
   else if (!std::cout) throw std::runtime_error("cannot write to stdout");

@@ -24,6 +24,14 @@ struct TrackRecordingOptions {
 // Tracks every profile of `input` with `params` and calls `line` with each
 // profile's JSON line ('\n' included): trackio::result_to_json_line when
 // independent, else trackio::sequence_to_json_line.
+// The same, the profiles read from `reader` a batch at a time while the
+// previous batch is tracked: memory stays flat in the recording's length.
+// `line` is called as each profile is tracked; an error reading the
+// recording (TrackInputError) comes after the lines of the profiles before
+// it.
+void track_recording(TrackInputReader& reader, const tracker::TrackerParams& params,
+                     const TrackRecordingOptions& options, const std::function<void(const std::string&)>& line);
+
 void track_recording(const TrackInput& input, const tracker::TrackerParams& params,
                      const TrackRecordingOptions& options, const std::function<void(const std::string&)>& line);
 

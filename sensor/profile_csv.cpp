@@ -1,11 +1,13 @@
 #include "sensor/profile_csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <istream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string_view>
@@ -40,102 +42,120 @@ void split(std::string_view line, std::vector<std::string_view>& fields) {
 
 class Reader {
  public:
-  explicit Reader(const std::string& name) : name_(name) {}
+  Reader(std::istream& in, const std::string& name) : in_(in), name_(name) {}
 
   [[noreturn]] void fail(long line, std::string_view field, const std::string& message) const {
     throw CsvError(name_ + ":" + std::to_string(line) + ": " + std::string(field) + ": " + message);
   }
 
-  std::vector<Profile> read(std::istream& in) {
-    std::string text;
-    long line = 0;
+  void read_header() {
     // Header.
-    if (!std::getline(in, text)) fail(1, "header", "empty file, expected the header 'profile,y,z' (optionally ',valid')");
-    ++line;
-    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // UTF-8 BOM
-    if (blank(text)) fail(1, "header", "empty line, expected the header 'profile,y,z' (optionally ',valid')");
-    std::vector<std::string_view> fields;
-    split(text, fields);
-    int at[4] = {-1, -1, -1, -1};
-    for (int i = 0; i < static_cast<int>(fields.size()); ++i) {
+    if (!std::getline(in_, text_)) fail(1, "header", "empty file, expected the header 'profile,y,z' (optionally ',valid')");
+    ++line_;
+    if (text_.size() >= 3 && text_.compare(0, 3, "\xEF\xBB\xBF") == 0) text_.erase(0, 3);  // UTF-8 BOM
+    if (blank(text_)) fail(1, "header", "empty line, expected the header 'profile,y,z' (optionally ',valid')");
+    split(text_, fields_);
+    for (int i = 0; i < static_cast<int>(fields_.size()); ++i) {
       int which = -1;
       for (int k = 0; k < 4; ++k)
-        if (fields[i] == kColumns[k]) which = k;
+        if (fields_[i] == kColumns[k]) which = k;
       if (which < 0)
-        fail(line, "header",
-             "unknown column '" + std::string(fields[i]) +
+        fail(line_, "header",
+             "unknown column '" + std::string(fields_[i]) +
                  "': expected profile, y, z and optionally valid (names are case-sensitive)");
-      if (at[which] >= 0) fail(line, "header", "column '" + std::string(fields[i]) + "' appears twice");
-      at[which] = i;
+      if (at_[which] >= 0) fail(line_, "header", "column '" + std::string(fields_[i]) + "' appears twice");
+      at_[which] = i;
     }
     for (int k = 0; k < 3; ++k)
-      if (at[k] < 0) fail(line, "header", "missing column '" + std::string(kColumns[k]) + "'");
-    const std::size_t width = fields.size();
+      if (at_[k] < 0) fail(line_, "header", "missing column '" + std::string(kColumns[k]) + "'");
+    width_ = fields_.size();
+  }
 
-    std::vector<Profile> out;
-    long blank_line = 0;  // first blank line seen, 0 if none yet
-    std::int64_t current = -1;
-    long current_first_line = 0;
-    while (std::getline(in, text)) {
-      ++line;
-      if (blank(text)) {
-        if (!blank_line) blank_line = line;
+  // Up to max_profiles (>= 1) further profiles into `out`; false at the end.
+  // A profile is complete when a row of the next one, or the end, is read.
+  bool read(std::vector<Profile>& out, std::size_t max_profiles) {
+    out.clear();
+    while (!done_ && out.size() < max_profiles) {
+      if (!std::getline(in_, text_)) {
+        if (in_.bad()) throw CsvError(name_ + ": read error");
+        if (!seen_) fail(line_ + 1, "line", "no data rows after the header");
+        done_ = true;
+        out.push_back(finished(std::move(pending_)));
+        break;
+      }
+      ++line_;
+      if (blank(text_)) {
+        if (!blank_line_) blank_line_ = line_;
         continue;
       }
-      if (blank_line)
-        fail(blank_line, "line", "blank line inside the data (blank lines are allowed only at the end)");
-      split(text, fields);
-      if (fields.size() != width)
-        fail(line, "line",
-             std::to_string(fields.size()) + " fields, expected " + std::to_string(width) + " as in the header");
-      const std::int64_t index = parse_index(line, fields[at[kProfile]]);
-      if (index < current)
-        fail(line, "profile",
-             std::to_string(index) + " after " + std::to_string(current) +
+      if (blank_line_)
+        fail(blank_line_, "line", "blank line inside the data (blank lines are allowed only at the end)");
+      split(text_, fields_);
+      if (fields_.size() != width_)
+        fail(line_, "line",
+             std::to_string(fields_.size()) + " fields, expected " + std::to_string(width_) + " as in the header");
+      const std::int64_t index = parse_index(line_, fields_[at_[kProfile]]);
+      if (index < current_)
+        fail(line_, "profile",
+             std::to_string(index) + " after " + std::to_string(current_) +
                  ": profile indices must not decrease (rows grouped by profile)");
       bool valid = true;
-      if (at[kValid] >= 0) {
-        const std::string_view v = fields[at[kValid]];
+      if (at_[kValid] >= 0) {
+        const std::string_view v = fields_[at_[kValid]];
         if (v == "1") valid = true;
         else if (v == "0") valid = false;
-        else fail(line, "valid", "'" + std::string(v) + "' is not 0 or 1");
+        else fail(line_, "valid", "'" + std::string(v) + "' is not 0 or 1");
       }
-      const float y = parse_coordinate(line, "y", fields[at[kY]], valid);
-      const float z = parse_coordinate(line, "z", fields[at[kZ]], valid);
-      if (index != current || out.empty()) {
-        out.emplace_back();
-        out.back().index = index;
-        current = index;
-        current_first_line = line;
+      const float y = parse_coordinate(line_, "y", fields_[at_[kY]], valid);
+      const float z = parse_coordinate(line_, "z", fields_[at_[kZ]], valid);
+      if (index != current_ || !seen_) {
+        if (seen_) out.push_back(finished(std::move(pending_)));
+        pending_ = Profile();
+        pending_.index = index;
+        current_ = index;
+        current_first_line_ = line_;
+        seen_ = true;
       }
-      Profile& p = out.back();
+      Profile& p = pending_;
       if (static_cast<int>(p.y_mm.size()) >= kMaxPoints)
-        fail(line, "profile",
-             "profile " + std::to_string(index) + " (from line " + std::to_string(current_first_line) +
+        fail(line_, "profile",
+             "profile " + std::to_string(index) + " (from line " + std::to_string(current_first_line_) +
                  ") has more than " + std::to_string(kMaxPoints) + " points");
       p.y_mm.push_back(valid ? y : 0.0f);
       p.z_mm.push_back(valid ? z : 0.0f);
       p.valid.push_back(valid ? 1 : 0);
     }
-    if (in.bad()) throw CsvError(name_ + ": read error");
-    if (out.empty()) fail(line + 1, "line", "no data rows after the header");
-    // The remaining per-column vectors, sized like the points.
-    for (Profile& p : out) {
-      const int n = static_cast<int>(p.y_mm.size());
-      std::vector<float> y = std::move(p.y_mm), z = std::move(p.z_mm);
-      std::vector<std::uint8_t> v = std::move(p.valid);
-      p.resize(n);
-      p.y_mm = std::move(y);
-      p.z_mm = std::move(z);
-      p.valid = std::move(v);
-      for (int i = 0; i < n; ++i)
-        p.range_mm[i] = p.valid[i] ? static_cast<float>(std::hypot(double(p.y_mm[i]), double(p.z_mm[i]))) : 0.0f;
-    }
-    return out;
+    return !out.empty();
   }
 
  private:
+  std::istream& in_;
   std::string name_;
+  std::string text_;
+  std::vector<std::string_view> fields_;
+  long line_ = 0;
+  int at_[4] = {-1, -1, -1, -1};
+  std::size_t width_ = 0;
+  long blank_line_ = 0;  // first blank line seen, 0 if none yet
+  std::int64_t current_ = -1;
+  long current_first_line_ = 0;
+  bool seen_ = false;  // a data row was read
+  bool done_ = false;  // the end was read
+  Profile pending_;    // the profile being read
+
+  // The remaining per-column vectors, sized like the points.
+  static Profile finished(Profile p) {
+    const int n = static_cast<int>(p.y_mm.size());
+    std::vector<float> y = std::move(p.y_mm), z = std::move(p.z_mm);
+    std::vector<std::uint8_t> v = std::move(p.valid);
+    p.resize(n);
+    p.y_mm = std::move(y);
+    p.z_mm = std::move(z);
+    p.valid = std::move(v);
+    for (int i = 0; i < n; ++i)
+      p.range_mm[i] = p.valid[i] ? static_cast<float>(std::hypot(double(p.y_mm[i]), double(p.z_mm[i]))) : 0.0f;
+    return p;
+  }
 
   std::int64_t parse_index(long line, std::string_view s) const {
     std::int64_t v = 0;
@@ -164,19 +184,54 @@ class Reader {
 
 }  // namespace
 
-std::vector<Profile> read_profile_csv(std::istream& in, const std::string& name) {
-  return Reader(name).read(in);
+struct ProfileCsvReader::Impl {
+  std::ifstream file;
+  Reader reader;
+  Impl(std::istream& in, const std::string& name) : reader(in, name) {}
+  explicit Impl(const std::filesystem::path& path) : file(path, std::ios::binary), reader(file, path.string()) {}
+};
+
+ProfileCsvReader::ProfileCsvReader(std::istream& in, const std::string& name)
+    : impl_(std::make_unique<Impl>(in, name)) {
+  impl_->reader.read_header();
 }
 
-std::vector<Profile> read_profile_csv(const std::filesystem::path& path) {
+ProfileCsvReader::ProfileCsvReader(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw CsvError(path.string() + ": is a directory, expected a CSV file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  impl_ = std::make_unique<Impl>(path);
+  if (!impl_->file) {
     const std::string why = std::filesystem::exists(path, ec) ? "cannot open file" : "no such file";
     throw CsvError(path.string() + ": " + why);
   }
-  return read_profile_csv(in, path.string());
+  impl_->reader.read_header();
+}
+
+ProfileCsvReader::~ProfileCsvReader() = default;
+
+bool ProfileCsvReader::read(std::vector<Profile>& profiles, int max_profiles) {
+  return impl_->reader.read(profiles, static_cast<std::size_t>(std::max(max_profiles, 1)));
+}
+
+namespace {
+
+std::vector<Profile> read_all(ProfileCsvReader& reader) {
+  std::vector<Profile> all, batch;
+  while (reader.read(batch, 1 << 16))
+    for (Profile& p : batch) all.push_back(std::move(p));
+  return all;
+}
+
+}  // namespace
+
+std::vector<Profile> read_profile_csv(std::istream& in, const std::string& name) {
+  ProfileCsvReader reader(in, name);
+  return read_all(reader);
+}
+
+std::vector<Profile> read_profile_csv(const std::filesystem::path& path) {
+  ProfileCsvReader reader(path);
+  return read_all(reader);
 }
 
 void write_profile_csv(std::ostream& out, const std::vector<Profile>& profiles) {

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,29 @@ struct CsvError : std::runtime_error {
 std::vector<Profile> read_profile_csv(const std::filesystem::path& path);
 // The same from a stream; `name` is the file name used in messages.
 std::vector<Profile> read_profile_csv(std::istream& in, const std::string& name);
+
+// A CSV file read a batch of profiles at a time, in order: memory is one
+// batch whatever the file's length. Messages as read_profile_csv's; an error
+// further on in the file is thrown by the read() that reaches it.
+class ProfileCsvReader {
+ public:
+  // Opens the file (or takes the stream; `name` is the file name used in
+  // messages) and reads its header. Throws CsvError.
+  explicit ProfileCsvReader(const std::filesystem::path& path);
+  ProfileCsvReader(std::istream& in, const std::string& name);
+  ~ProfileCsvReader();
+  ProfileCsvReader(const ProfileCsvReader&) = delete;
+  ProfileCsvReader& operator=(const ProfileCsvReader&) = delete;
+
+  // The next profiles, at most max_profiles (>= 1), into `profiles`
+  // (replacing its content), each as read_profile_csv gives it. Returns false,
+  // `profiles` empty, at the end. Throws CsvError.
+  bool read(std::vector<Profile>& profiles, int max_profiles);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Writes profiles in the format above with the `valid` column (header
 // `profile,y,z,valid`), floats with 9 significant digits, so reading the text

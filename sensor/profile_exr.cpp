@@ -12,11 +12,17 @@
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
+#include <ImfCompression.h>
 #include <ImfStdIO.h>
 #include <openexr.h>
 #include <ImfStringAttribute.h>
 #include <unistd.h>
+#include <zlib.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cerrno>
@@ -25,6 +31,7 @@
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -542,9 +549,83 @@ void ProfileExrWriter::finish() {
 
 namespace {
 
+// OpenEXR's ZIP predictor undone in place: t[i] += t[i - 1] - 128 from i = 1
+// on (a running sum of bytes, modulo 256), 16 bytes at a time.
+void undo_zip_predictor(unsigned char* t, std::size_t n) {
+  std::size_t i = 1;
+#if defined(__SSE2__)
+  const __m128i bias = _mm_set1_epi8(static_cast<char>(-128));
+  for (; i + 16 <= n; i += 16) {
+    __m128i v = _mm_add_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t + i)), bias);
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 1));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 2));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 4));
+    v = _mm_add_epi8(v, _mm_slli_si128(v, 8));
+    v = _mm_add_epi8(v, _mm_set1_epi8(static_cast<char>(t[i - 1])));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(t + i), v);
+  }
+#endif
+  for (; i < n; ++i) t[i] = static_cast<unsigned char>(int(t[i - 1]) + int(t[i]) - 128);
+}
+
+// OpenEXR's ZIP byte order undone: out takes bytes from the first and the
+// second half of t in turn.
+void deinterleave(const unsigned char* t, std::size_t n, unsigned char* out) {
+  const unsigned char* t1 = t;
+  const unsigned char* t2 = t + (n + 1) / 2;
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  for (; i + 32 <= n; i += 32, t1 += 16, t2 += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t1));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t2));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_unpacklo_epi8(a, b));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i + 16), _mm_unpackhi_epi8(a, b));
+  }
+#endif
+  for (; i + 1 < n; i += 2) {
+    out[i] = *t1++;
+    out[i + 1] = *t2++;
+  }
+  if (i < n) out[i] = *t1;
+}
+
+// A profile EXR open for reading: open() reads and checks the header,
+// read_block() then converts up to kChunkRows rows at a time.
 struct Reader {
   fs::path path;
+  std::unique_ptr<Imf::MultiPartInputFile> file;
   const Imf::Header* header = nullptr;
+  ProfileFileInfo info;
+  int width = 0, height = 0;
+  bool v1 = false;
+  int row_xs = 1;                // xSampling of the per-row channels
+  std::vector<int> slots;        // point_slots(info)
+  std::array<bool, 8> exact{};   // per-row channel has its f64hi/f64lo bits
+  std::array<std::vector<float>, kPointSlots> points;
+  std::array<std::vector<float>, 8> row_f;
+  std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
+  std::optional<Imf::InputPart> profiles_part, rows_part;
+  // Part "profiles" decoded here rather than by OpenEXR 3.1, which copies
+  // every float out of a decompressed block byte by byte (most of a read's
+  // time): when it is ZIP, ZIPS or uncompressed with full-resolution
+  // channels on a little-endian machine. Anything unexpected in a block
+  // hands it back to OpenEXR (readPixels), so bad data gets OpenEXR's
+  // message.
+  struct Direct {
+    bool usable = false;
+    bool zip = false;
+    int lines = 1;                // rows per block
+    std::size_t row_bytes = 0;    // one row of every channel
+    std::array<std::size_t, kPointSlots> offset{};  // of a slot's channel in a row
+    // Per block of a read: its bytes as stored (OpenEXR reuses its buffer
+    // from block to block), the delta-coded bytes, the decoded block. The
+    // last block read stays decoded for the next read.
+    struct Block {
+      std::vector<unsigned char> raw, packed, data;
+    };
+    std::vector<Block> blocks;
+    int cached = -1;  // index of the block decoded in blocks[0] at the start of a read
+  } direct;
 
   ExrError fail(const std::string& what) const { return ExrError(where(path) + ": " + what); }
 
@@ -620,17 +701,24 @@ struct Reader {
                  std::to_string(ch->ySampling) + ", expected " + std::to_string(xs) + " 1");
   }
 
-  ProfileRecording read();
+  void open();
+  void open_direct();
+  // Rows first .. first + rows - 1 into `points` by `direct`; false when it
+  // cannot (nothing to trust in `points` then).
+  bool read_direct(int first, int rows);
+  // Rows first .. first + rows - 1 (rows <= kChunkRows) into profiles[0 ..
+  // rows - 1] and, when not null, reference[] (with has_reference) and
+  // row_values[].
+  void read_block(int first, int rows, Profile* profiles, Profile* reference, std::array<double, 8>* row_values);
 };
 
-ProfileRecording Reader::read() {
-  Imf::MultiPartInputFile in(path.c_str());
+void Reader::open() {
+  file = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
+  Imf::MultiPartInputFile& in = *file;
   header = &in.header(0);
-  ProfileRecording rec;
-  ProfileFileInfo& info = rec.info;
 
   const std::string& format = text("vts.format");
-  const bool v1 = format == kFormatV1;
+  v1 = format == kFormatV1;
   if (format != kFormat && !v1)
     throw fail("attribute vts.format = '" + format + "', expected '" + kFormat + "' (or '" +
                kFormatV1 + "')");
@@ -670,8 +758,8 @@ ProfileRecording Reader::read() {
                "' or '" + kNoReference + "'");
 
   const Imath::Box2i dw = header->dataWindow();
-  const int width = dw.max.x - dw.min.x + 1;
-  const int height = dw.max.y - dw.min.y + 1;
+  width = dw.max.x - dw.min.x + 1;
+  height = dw.max.y - dw.min.y + 1;
   if (dw.min.x != 0 || dw.min.y != 0)
     throw fail("dataWindow starts at (" + std::to_string(dw.min.x) + " " +
                std::to_string(dw.min.y) + "), expected (0 0)");
@@ -692,7 +780,7 @@ ProfileRecording Reader::read() {
                "'; this one has " + std::to_string(in.parts()) + ": " + parts);
   }
   const Imf::Header& rows_header = in.header(v1 ? 0 : 1);
-  const int row_xs = v1 ? width : 1;
+  row_xs = v1 ? width : 1;
   if (!v1) {
     const Imath::Box2i rdw = rows_header.dataWindow();
     if (rdw.min != Imath::V2i(0, 0) || rdw.max != Imath::V2i(0, height - 1))
@@ -701,10 +789,9 @@ ProfileRecording Reader::read() {
                  std::to_string(rdw.max.y) + "), expected (0 0) - (0 " + std::to_string(height - 1) + ")");
   }
 
-  const std::vector<int> slots = point_slots(info);
+  slots = point_slots(info);
   for (int c : slots) require_channel(*header, kPointNames[c], Imf::FLOAT, 1);
   // Exact doubles when both bit channels are there, else the FLOAT rounding.
-  std::array<bool, 8> exact{};
   for (int c = 0; c < 8; ++c) {
     const std::string name = kRowNames[c];
     require_channel(rows_header, name, Imf::FLOAT, row_xs);
@@ -720,26 +807,107 @@ ProfileRecording Reader::read() {
     exact[c] = hi;
   }
 
-  std::array<std::vector<float>, kPointSlots> points;
-  std::array<std::vector<float>, 8> row_f;
-  std::array<std::vector<std::uint32_t>, 8> row_hi, row_lo;
   for (int c : slots) points[c].resize(std::size_t(kChunkRows) * width);
   for (int c = 0; c < 8; ++c) {
     row_f[c].resize(kChunkRows);
     row_hi[c].resize(kChunkRows);
     row_lo[c].resize(kChunkRows);
   }
-  rec.profiles.resize(height);
-  rec.row_values.resize(height);
-  if (info.has_reference) rec.reference.resize(height);
-
-  Imf::InputPart profiles_part(in, 0);
-  std::optional<Imf::InputPart> rows_part;
+  profiles_part.emplace(in, 0);
   if (!v1) rows_part.emplace(in, 1);
+  open_direct();
+}
+
+void Reader::open_direct() {
+  Direct& d = direct;
+  if (v1 || std::endian::native != std::endian::little) return;
+  switch (header->compression()) {
+    case Imf::ZIP_COMPRESSION: d.zip = true, d.lines = 16; break;
+    case Imf::ZIPS_COMPRESSION: d.zip = true, d.lines = 1; break;
+    case Imf::NO_COMPRESSION: d.zip = false, d.lines = 1; break;
+    default: return;
+  }
+  // A block is its rows one after the other, each row every channel in the
+  // channel list's (alphabetical) order, little-endian.
+  std::size_t at = 0;
+  for (auto it = header->channels().begin(); it != header->channels().end(); ++it) {
+    const Imf::Channel& ch = it.channel();
+    if (ch.xSampling != 1 || ch.ySampling != 1) return;
+    for (int c : slots)
+      if (std::string_view(it.name()) == kPointNames[c]) d.offset[c] = at;
+    at += std::size_t(width) * (ch.type == Imf::HALF ? 2 : 4);
+  }
+  d.row_bytes = at;
+  d.usable = true;
+}
+
+// `raw`, block of `bytes` decoded bytes as stored, into `out`; false if it
+// does not decode to exactly that many.
+bool decode_block(bool zip, const std::vector<unsigned char>& raw, std::size_t bytes,
+                  std::vector<unsigned char>& packed, std::vector<unsigned char>& out) {
+  out.resize(bytes);
+  if (!zip || raw.size() >= bytes) {
+    // Stored as is (a compressor keeps a block it cannot shrink).
+    if (raw.size() != bytes) return false;
+    std::memcpy(out.data(), raw.data(), bytes);
+    return true;
+  }
+  // OpenEXR's ZIP: zlib, then a byte-wise delta, then the two halves
+  // interleaved (ImfZip.cpp).
+  packed.resize(bytes);
+  uLongf got = bytes;
+  if (uncompress(packed.data(), &got, raw.data(), uLong(raw.size())) != Z_OK || got != bytes) return false;
+  undo_zip_predictor(packed.data(), bytes);
+  deinterleave(packed.data(), bytes, out.data());
+  return true;
+}
+
+bool Reader::read_direct(int first, int rows) {
+  Direct& d = direct;
+  if (!d.usable) return false;
+  const int b0 = first / d.lines, b1 = (first + rows - 1) / d.lines;
+  const std::size_t count = std::size_t(b1 - b0 + 1);
+  if (d.blocks.size() < count) d.blocks.resize(count);
+  const bool have_first = d.cached == b0;
+  d.cached = -1;
+  auto block_bytes = [&](int b) { return std::size_t(std::min(d.lines, height - b * d.lines)) * d.row_bytes; };
+  try {
+    for (std::size_t k = have_first ? 1 : 0; k < count; ++k) {
+      const char* data = nullptr;
+      int size = 0;
+      profiles_part->rawPixelData((b0 + int(k)) * d.lines, data, size);
+      if (size < 0) return false;
+      d.blocks[k].raw.assign(data, data + size);
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  // The blocks decoded on the vts threads (zlib is most of a read).
+  std::atomic<bool> ok{true};
+  parallel_for(count - (have_first ? 1 : 0), [&](std::size_t i) {
+    const std::size_t k = i + (have_first ? 1 : 0);
+    Direct::Block& b = d.blocks[k];
+    if (!decode_block(d.zip, b.raw, block_bytes(b0 + int(k)), b.packed, b.data)) ok = false;
+  });
+  if (!ok) return false;
+  for (int y = first; y < first + rows; ++y) {
+    const int b = y / d.lines;
+    const unsigned char* row = d.blocks[std::size_t(b - b0)].data.data() + std::size_t(y - b * d.lines) * d.row_bytes;
+    for (int c : slots)
+      std::memcpy(points[c].data() + std::size_t(y - first) * width, row + d.offset[c],
+                  std::size_t(width) * sizeof(float));
+  }
+  // The last block, if the next read may start in it.
+  if (count > 1) std::swap(d.blocks[0], d.blocks[count - 1]);
+  d.cached = b1;
+  return true;
+}
+
+void Reader::read_block(int first, int rows, Profile* profiles, Profile* reference,
+                        std::array<double, 8>* row_values) {
   const std::size_t fstride = sizeof(float), ustride = sizeof(std::uint32_t);
   const int row_w = v1 ? width : 1;
-  for (int first = 0; first < height; first += kChunkRows) {
-    const int rows = std::min(kChunkRows, height - first);
+  {
     const Imath::V2i origin(0, first);
     Imf::FrameBuffer fb, rows_fb;
     for (int c : slots)
@@ -757,8 +925,10 @@ ProfileRecording Reader::read() {
       rfb.insert(kLoPrefix + name, Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, row_w,
                                                     kChunkRows, ustride, ustride, row_xs, 1));
     }
-    profiles_part.setFrameBuffer(fb);
-    profiles_part.readPixels(first, first + rows - 1);
+    if (!read_direct(first, rows)) {
+      profiles_part->setFrameBuffer(fb);
+      profiles_part->readPixels(first, first + rows - 1);
+    }
     if (rows_part) {
       rows_part->setFrameBuffer(rows_fb);
       rows_part->readPixels(first, first + rows - 1);
@@ -770,7 +940,7 @@ ProfileRecording Reader::read() {
       for (int c = 0; c < 8; ++c)
         v[c] = exact[c] ? std::bit_cast<double>((std::uint64_t(row_hi[c][r]) << 32) | row_lo[c][r])
                         : double(row_f[c][r]);
-      rec.row_values[y] = v;
+      if (row_values) row_values[r] = v;
       const Pose pose = pose_from_quat(Vec3(v[0], v[1], v[2]),
                                        Eigen::Quaterniond(v[3], v[4], v[5], v[6]));
       const std::size_t off = std::size_t(r) * width;
@@ -796,10 +966,10 @@ ProfileRecording Reader::read() {
         p.time_s = v[7];
         p.index = y;
       };
-      take(rec.profiles[y], 0);
-      if (info.has_reference) take(rec.reference[y], 4);
+      take(profiles[r], 0);
+      if (info.has_reference && reference) take(reference[r], 4);
       if (info.error_model) {
-        Profile& p = rec.profiles[y];
+        Profile& p = profiles[r];
         std::copy_n(points[8].begin() + off, width, p.intensity.begin());
         std::copy_n(points[9].begin() + off, width, p.true_y_mm.begin());
         std::copy_n(points[10].begin() + off, width, p.true_z_mm.begin());
@@ -807,7 +977,6 @@ ProfileRecording Reader::read() {
       }
     }
   }
-  return rec;
 }
 
 }  // namespace
@@ -830,9 +999,35 @@ int fixed_attribute_size(const std::string& type) {
   return -1;
 }
 
+// The first bytes of a file, read as far as they are asked for: a header
+// walk reads the header, not the pixels after it.
+class FilePrefix {
+ public:
+  explicit FilePrefix(const fs::path& path) : in_(path, std::ios::binary) {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    size_ = ec ? 0 : static_cast<std::size_t>(size);
+  }
+  std::size_t size() const { return size_; }
+  // Byte i (< size()).
+  char operator[](std::size_t i) {
+    while (i >= bytes_.size()) {
+      const std::size_t old = bytes_.size();
+      bytes_.resize(std::min(size_, std::max<std::size_t>(2 * old, 1 << 16)));
+      in_.read(bytes_.data() + old, static_cast<std::streamsize>(bytes_.size() - old));
+      if (bytes_.size() == old) return '\0';
+    }
+    return bytes_[i];
+  }
+
+ private:
+  std::ifstream in_;
+  std::size_t size_ = 0;
+  std::vector<char> bytes_;
+};
+
 void check_header_layout(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  FilePrefix bytes(path);
   const std::size_t n = bytes.size();
   const std::size_t max_name = (n > 5 && (bytes[5] & 0x04)) ? 255 : 31;  // long-names flag
   const bool multipart = n > 5 && (bytes[5] & 0x10);                      // multi-part flag
@@ -859,8 +1054,9 @@ void check_header_layout(const fs::path& path) {
       }
       read_cstr(type);
       if (pos + 4 > n) throw fail("ends early (truncated file)");
-      std::int32_t size = 0;
-      std::memcpy(&size, &bytes[pos], 4);  // little-endian, as the machines we build for
+      std::uint32_t usize = 0;  // little-endian
+      for (int b = 3; b >= 0; --b) usize = (usize << 8) | static_cast<unsigned char>(bytes[pos + b]);
+      const auto size = static_cast<std::int32_t>(usize);
       pos += 4;
       if (size < 0 || pos + static_cast<std::size_t>(size) > n)
         throw fail("attribute '" + name + "' claims " + std::to_string(size) + " bytes, more than the file holds");
@@ -939,7 +1135,30 @@ void check_header_sane(const fs::path& path) {
   }
 }
 
-ProfileRecording read_profile_exr(const fs::path& path) {
+namespace {
+
+// Runs f, turning every exception but ExrError into one naming the file.
+template <class F>
+auto guarded(const fs::path& path, F&& f) {
+  try {
+    return f();
+  } catch (const ExrError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExrError(where(path) + ": " + e.what());
+  } catch (...) {
+    throw ExrError(where(path) + ": unknown error while reading");
+  }
+}
+
+}  // namespace
+
+struct ProfileExrReader::Impl {
+  Reader reader;
+  int next = 0;  // the next row to read
+};
+
+ProfileExrReader::ProfileExrReader(const fs::path& path) : impl_(std::make_unique<Impl>()) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw ExrError(where(path) + ": no such file");
   if (fs::is_directory(path, ec)) throw ExrError(where(path) + ": is a directory");
@@ -953,18 +1172,43 @@ ProfileRecording read_profile_exr(const fs::path& path) {
         magic[3] != 0x01)
       throw ExrError(where(path) + ": not an OpenEXR file (no EXR magic number)");
   }
-  Reader reader{path};
-  try {
+  impl_->reader.path = path;
+  guarded(path, [&] {
     check_header_layout(path);
     check_header_sane(path);
-    return reader.read();
-  } catch (const ExrError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ExrError(where(path) + ": " + e.what());
-  } catch (...) {
-    throw ExrError(where(path) + ": unknown error while reading");
-  }
+    impl_->reader.open();
+  });
+}
+
+ProfileExrReader::~ProfileExrReader() = default;
+
+const ProfileFileInfo& ProfileExrReader::info() const { return impl_->reader.info; }
+
+int ProfileExrReader::rows_read() const { return impl_->next; }
+
+int ProfileExrReader::read(int max_rows, std::vector<Profile>& profiles, std::vector<Profile>* reference,
+                           std::vector<std::array<double, 8>>* row_values) {
+  Reader& r = impl_->reader;
+  const int n = std::clamp(r.height - impl_->next, 0, std::max(max_rows, 1));
+  profiles.resize(n);
+  if (reference) reference->resize(r.info.has_reference ? n : 0);
+  if (row_values) row_values->resize(n);
+  guarded(r.path, [&] {
+    for (int done = 0; done < n; done += kChunkRows)
+      r.read_block(impl_->next + done, std::min(kChunkRows, n - done), profiles.data() + done,
+                   reference && r.info.has_reference ? reference->data() + done : nullptr,
+                   row_values ? row_values->data() + done : nullptr);
+  });
+  impl_->next += n;
+  return n;
+}
+
+ProfileRecording read_profile_exr(const fs::path& path) {
+  ProfileExrReader reader(path);
+  ProfileRecording rec;
+  rec.info = reader.info();
+  reader.read(rec.info.profiles, rec.profiles, &rec.reference, &rec.row_values);
+  return rec;
 }
 
 }  // namespace vts

@@ -103,7 +103,35 @@ std::array<double, 8> recording_row_values(const ProfileRecording& rec, std::siz
 // the writer adds vts.format and comments. For exports (sensor/profile_export.h).
 std::vector<std::pair<std::string, std::string>> profile_attributes(const ProfileFileInfo& info);
 
-// Reads the whole file. Throws ExrError with a message naming the file and
+// A profile EXR read a block of rows at a time, in order: memory is one
+// block (and OpenEXR's buffers) whatever the number of rows. Failures throw
+// the ExrError read_profile_exr gives for them; a file whose pixels are bad
+// further on reads well up to the block that holds them.
+class ProfileExrReader {
+ public:
+  // Opens the file and reads and checks its header (everything
+  // read_profile_exr checks before the pixels).
+  explicit ProfileExrReader(const std::filesystem::path& path);
+  ~ProfileExrReader();
+  ProfileExrReader(const ProfileExrReader&) = delete;
+  ProfileExrReader& operator=(const ProfileExrReader&) = delete;
+
+  const ProfileFileInfo& info() const;
+  // Rows read so far: the next row's index.
+  int rows_read() const;
+  // Reads the next min(max_rows, rows left) rows into `profiles`, resized to
+  // that count (their storage is reused from call to call) and, when given,
+  // their reference profiles (empty unless info().has_reference) and row
+  // values (as ProfileRecording's). Returns the count, 0 at the end.
+  int read(int max_rows, std::vector<Profile>& profiles, std::vector<Profile>* reference = nullptr,
+           std::vector<std::array<double, 8>>* row_values = nullptr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Reads the whole file (a ProfileExrReader read at once). Throws ExrError with a message naming the file and
 // what is wrong with it (missing file, not an EXR, truncated, missing channel,
 // wrong width, bad attribute value).
 ProfileRecording read_profile_exr(const std::filesystem::path& path);

@@ -1,6 +1,10 @@
 #include "trackio/result_json.h"
 
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <optional>
+#include <string_view>
 #include <utility>
 
 namespace vts::trackio {
@@ -38,15 +42,6 @@ constexpr std::pair<const char*, int R::*> kCounts[] = {
     {"outliers", &R::outliers},
 };
 
-// Micrometre-rounded value, or null when not measured.
-Json num(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  const double r = std::round(v * 1e6) / 1e6;
-  return r == 0.0 ? 0.0 : r;  // no "-0.0"
-}
-
-Json point(const tk::Vec2& p) { return Json{{"y", num(p.x())}, {"z", num(p.y())}}; }
-
 const Json& at(const Json& j, const char* key) {
   if (!j.is_object() || !j.contains(key)) throw JsonError(std::string("missing key '") + key + "'");
   return j.at(key);
@@ -78,59 +73,159 @@ std::optional<tk::Vec2> point_from(const Json& j) {
   return tk::Vec2(value(j, "y"), value(j, "z"));
 }
 
-}  // namespace
+// One line of JSON, written as nlohmann's dump(-1) of the same object would
+// be (keys in insertion order, no spaces, its number format), without
+// building the object: the line is most of `vts track`'s time otherwise.
+class LineWriter {
+ public:
+  std::string out;
 
-Json result_to_json(std::int64_t profile, const R& r) {
-  Json j;
-  j["profile"] = profile;
-  j["joint"] = std::string(tk::to_string(r.joint));
-  j["status"] = std::string(tk::to_string(r.status));
-  if (r.status != tk::TrackStatus::Ok) j["reason"] = r.reason;
-  Json bps = Json::array();
+  // `"key":`, after a comma unless first in its object.
+  LineWriter& key(const char* k) {
+    comma();
+    out += '"';
+    out += k;
+    out += "\":";
+    first_ = true;  // the value is not preceded by a comma
+    return *this;
+  }
+  void open(char c) {
+    comma();
+    out += c;
+    first_ = true;
+  }
+  void close(char c) {
+    out += c;
+    first_ = false;
+  }
+  void null() { value("null"); }
+  void boolean(bool b) { value(b ? "true" : "false"); }
+  void integer(std::int64_t v) {
+    char buf[24];
+    const auto res = std::to_chars(buf, buf + sizeof buf, v);
+    value(std::string_view(buf, static_cast<std::size_t>(res.ptr - buf)));
+  }
+  // num(v): micrometre-rounded, or null when not measured.
+  void number(double v) {
+    if (!std::isfinite(v)) return null();
+    double r = std::round(v * 1e6) / 1e6;
+    if (r == 0.0) r = 0.0;  // no "-0.0"
+    std::array<char, 64> buf;
+    char* end = nlohmann::detail::to_chars(buf.data(), buf.data() + buf.size(), r);
+    value(std::string_view(buf.data(), static_cast<std::size_t>(end - buf.data())));
+  }
+  void string(std::string_view t) {
+    // Printable ASCII without quote or backslash is written as is; anything
+    // else is escaped by nlohmann (invalid UTF-8 replaced).
+    for (const char c : t)
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7F || c == '"' || c == '\\')
+        return value(Json(std::string(t)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    comma();
+    out += '"';
+    out += t;
+    out += '"';
+    first_ = false;
+  }
+  void point(const tk::Vec2& p) {
+    open('{');
+    key("y").number(p.x());
+    key("z").number(p.y());
+    close('}');
+  }
+  void point(const std::optional<tk::Vec2>& p) { p ? point(*p) : null(); }
+
+ private:
+  bool first_ = true;
+  void comma() {
+    if (!first_) out += ',';
+  }
+  void value(std::string_view v) {
+    comma();
+    out += v;
+    first_ = false;
+  }
+};
+
+// The result's members, the object left open (for "sequence").
+void write_result(LineWriter& w, std::int64_t profile, const R& r) {
+  w.open('{');
+  w.key("profile").integer(profile);
+  w.key("joint").string(tk::to_string(r.joint));
+  w.key("status").string(tk::to_string(r.status));
+  if (r.status != tk::TrackStatus::Ok) w.key("reason").string(r.reason);
+  w.key("break_points").open('[');
   for (int i = 0; i < tk::kMaxBreakPoints; ++i) {
     if (!r.break_points[i]) continue;
-    Json bp{{"name", "B" + std::to_string(i)}, {"meaning", std::string(tk::break_point_name(r.joint, i))}};
-    bp.update(point(*r.break_points[i]));
-    bps.push_back(std::move(bp));
+    w.open('{');
+    char name[16] = "B";
+    const auto end = std::to_chars(name + 1, name + sizeof name, i).ptr;
+    w.key("name").string(std::string_view(name, static_cast<std::size_t>(end - name)));
+    w.key("meaning").string(tk::break_point_name(r.joint, i));
+    w.key("y").number(r.break_points[i]->x());
+    w.key("z").number(r.break_points[i]->y());
+    w.close('}');
   }
-  j["break_points"] = std::move(bps);
-  j["track_point"] = r.track_point ? point(*r.track_point) : Json();
-  j["rival_track_point"] = r.rival_track_point ? point(*r.rival_track_point) : Json();
-  for (const auto& [key, field] : kValues) j[key] = num(r.*field);
-  for (const auto& [key, field] : kGrooveValues) j[key] = num(r.*field);
-  j["fill_lowest"] = r.fill_lowest ? point(*r.fill_lowest) : Json();
-  for (const auto& [key, field] : kCounts) j[key] = r.*field;
-  Json segs = Json::array();
-  for (const auto& s : r.segments) {
-    Json line = s.points >= 2 ? Json{{"ny", num(s.line.n.x())}, {"nz", num(s.line.n.y())}, {"c", num(s.line.c)}}
-                              : Json();
-    segs.push_back(Json{{"first", s.first_col},
-                        {"last", s.last_col},
-                        {"points", s.points},
-                        {"line", std::move(line)},
-                        {"rms_mm", num(s.rms_mm)}});
+  w.close(']');
+  w.key("track_point").point(r.track_point);
+  w.key("rival_track_point").point(r.rival_track_point);
+  for (const auto& [key, field] : kValues) w.key(key).number(r.*field);
+  for (const auto& [key, field] : kGrooveValues) w.key(key).number(r.*field);
+  w.key("fill_lowest").point(r.fill_lowest);
+  for (const auto& [key, field] : kCounts) w.key(key).integer(r.*field);
+  w.key("segments").open('[');
+  for (const auto& seg : r.segments) {
+    w.open('{');
+    w.key("first").integer(seg.first_col);
+    w.key("last").integer(seg.last_col);
+    w.key("points").integer(seg.points);
+    w.key("line");
+    if (seg.points >= 2) {
+      w.open('{');
+      w.key("ny").number(seg.line.n.x());
+      w.key("nz").number(seg.line.n.y());
+      w.key("c").number(seg.line.c);
+      w.close('}');
+    } else {
+      w.null();
+    }
+    w.key("rms_mm").number(seg.rms_mm);
+    w.close('}');
   }
-  j["segments"] = std::move(segs);
-  return j;
+  w.close(']');
 }
 
+}  // namespace
+
+Json result_to_json(std::int64_t profile, const R& r) { return Json::parse(result_to_json_line(profile, r)); }
+
 std::string result_to_json_line(std::int64_t profile, const R& r) {
-  std::string line = result_to_json(profile, r).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  line += '\n';
-  return line;
+  LineWriter w;
+  write_result(w, profile, r);
+  w.close('}');
+  w.out += '\n';
+  return std::move(w.out);
 }
 
 std::string sequence_to_json_line(std::int64_t profile, const R& r, const tk::Follower& follower) {
-  Json j = result_to_json(profile, r);
-  Json region;
-  if (const auto& reg = follower.region())
-    region = Json{{"y", num(reg->track_point.x())}, {"z", num(reg->track_point.y())}, {"radius_mm", num(reg->radius_mm)}};
-  j["sequence"] = Json{{"locked", follower.locked()},
-                       {"region", std::move(region)},
-                       {"filtered", follower.filtered() ? point(*follower.filtered()) : Json()}};
-  std::string line = j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  line += '\n';
-  return line;
+  LineWriter w;
+  write_result(w, profile, r);
+  w.key("sequence").open('{');
+  w.key("locked").boolean(follower.locked());
+  w.key("region");
+  if (const auto& reg = follower.region()) {
+    w.open('{');
+    w.key("y").number(reg->track_point.x());
+    w.key("z").number(reg->track_point.y());
+    w.key("radius_mm").number(reg->radius_mm);
+    w.close('}');
+  } else {
+    w.null();
+  }
+  w.key("filtered").point(follower.filtered());
+  w.close('}');
+  w.close('}');
+  w.out += '\n';
+  return std::move(w.out);
 }
 
 R result_from_json(const Json& j, std::int64_t* profile) {

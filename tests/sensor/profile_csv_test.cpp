@@ -185,3 +185,59 @@ TEST_CASE("profile csv: non-finite values are accepted on invalid rows", "[csv]"
   // Still numbers, though.
   CHECK(error_of("profile,valid,y,z\n0,0,abc,1\n") == "rec.csv:2: y: 'abc' is not a number");
 }
+
+TEST_CASE("profile csv: the streaming reader gives the profiles in batches of any size", "[csv]") {
+  // Hand-made: indices skip, profiles of 1 to 3 points, CRLF, blank lines at
+  // the end; each value known.
+  const std::string text =
+      "profile,y,z,valid\r\n0,1,10,1\r\n0,2,20,1\r\n3,3,30,0\r\n4,4,40,1\r\n4,5,50,1\r\n4,6,60,1\r\n"
+      "9,7,70,1\r\n12,8,80,1\r\n12,9,90,0\r\n\r\n\r\n";
+  const std::vector<std::int64_t> indices = {0, 3, 4, 9, 12};
+  const std::vector<std::vector<float>> ys = {{1, 2}, {0}, {4, 5, 6}, {7}, {8, 0}};
+  for (const int batch : {1, 2, 3, 5, 100}) {
+    INFO("batch " << batch);
+    std::istringstream in(text);
+    ProfileCsvReader reader(in, "rec.csv");
+    std::vector<Profile> all, got;
+    while (reader.read(got, batch)) {
+      REQUIRE(got.size() <= std::size_t(batch));
+      all.insert(all.end(), got.begin(), got.end());
+    }
+    CHECK(got.empty());
+    CHECK_FALSE(reader.read(got, batch));
+    REQUIRE(all.size() == indices.size());
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      CHECK(all[k].index == indices[k]);
+      CHECK(all[k].y_mm == ys[k]);
+      CHECK(all[k].size() == int(ys[k].size()));
+      for (std::size_t i = 0; i < ys[k].size(); ++i) CHECK(all[k].z_mm[i] == (all[k].valid[i] ? 10 * ys[k][i] : 0.0f));
+    }
+    const std::vector<Profile> whole = read_text(text);
+    REQUIRE(whole.size() == all.size());
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      CHECK(whole[k].y_mm == all[k].y_mm);
+      CHECK(whole[k].range_mm == all[k].range_mm);
+    }
+  }
+}
+
+TEST_CASE("profile csv: a bad row further on is thrown by the read that reaches it", "[csv]") {
+  const std::string text = "profile,y,z\n0,1,2\n1,1,2\n2,1,2\n3,1,x\n";
+  std::istringstream in(text);
+  ProfileCsvReader reader(in, "rec.csv");
+  std::vector<Profile> got;
+  REQUIRE(reader.read(got, 2));
+  REQUIRE(got.size() == 2);
+  CHECK(got[1].index == 1);
+  try {
+    reader.read(got, 2);
+    FAIL("no exception");
+  } catch (const CsvError& e) {
+    CHECK(std::string(e.what()) == "rec.csv:5: z: 'x' is not a number");
+    CHECK(error_of(text) == e.what());
+  }
+  // Errors of the header and of an empty file, at once.
+  std::istringstream empty("");
+  CHECK_THROWS_WITH(ProfileCsvReader(empty, "e.csv"),
+                    "e.csv:1: header: empty file, expected the header 'profile,y,z' (optionally ',valid')");
+}

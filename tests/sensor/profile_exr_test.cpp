@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <filesystem>
@@ -16,6 +17,9 @@
 #include <ImfHeader.h>
 #include <ImfInputPart.h>
 #include <ImfMultiPartInputFile.h>
+#include <ImfMultiPartOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfCompression.h>
 #include <ImfStringAttribute.h>
 
 #include "tests/common/temp_dir.h"
@@ -477,4 +481,124 @@ TEST_CASE("exr: a two-part file whose second part is not 'rows' is refused", "[e
   CHECK_THROWS_WITH(vts::read_profile_exr(f), Catch::Contains("rowz.exr") &&
                                                   Catch::EndsWith("rowz.exr': a vts-profiles 2 file has two parts, 'profiles' and "
                                                                   "'rows'; this one has 2: 'profiles', 'rowz'"));
+}
+
+namespace {
+
+// Every row of `file` through a ProfileExrReader, `batch` rows a call.
+vts::ProfileRecording read_streamed(const fs::path& file, int batch) {
+  vts::ProfileExrReader reader(file);
+  vts::ProfileRecording rec;
+  rec.info = reader.info();
+  std::vector<Profile> p, ref;
+  std::vector<std::array<double, 8>> rows;
+  while (const int n = reader.read(batch, p, &ref, &rows)) {
+    REQUIRE(n <= batch);
+    REQUIRE(p.size() == std::size_t(n));
+    REQUIRE(ref.size() == (rec.info.has_reference ? std::size_t(n) : 0u));
+    rec.profiles.insert(rec.profiles.end(), p.begin(), p.end());
+    rec.reference.insert(rec.reference.end(), ref.begin(), ref.end());
+    rec.row_values.insert(rec.row_values.end(), rows.begin(), rows.end());
+    REQUIRE(reader.rows_read() == int(rec.profiles.size()));
+  }
+  CHECK(reader.read(batch, p) == 0);
+  CHECK(p.empty());
+  return rec;
+}
+
+// `src` with part "profiles" stored with `compression`, by plain OpenEXR.
+void recompress(const fs::path& src, const fs::path& dst, Imf::Compression compression) {
+  Imf::MultiPartInputFile in(src.c_str());
+  std::vector<Imf::Header> headers;
+  for (int i = 0; i < in.parts(); ++i) headers.push_back(in.header(i));
+  headers[0].compression() = compression;
+  std::vector<std::vector<std::vector<std::uint32_t>>> data(in.parts());
+  std::vector<Imf::FrameBuffer> fbs(in.parts());
+  for (int i = 0; i < in.parts(); ++i) {
+    const Imath::Box2i dw = headers[i].dataWindow();
+    const std::size_t w = dw.max.x + 1, h = dw.max.y + 1;
+    for (auto it = headers[i].channels().begin(); it != headers[i].channels().end(); ++it) {
+      REQUIRE(it.channel().xSampling == 1);
+      data[i].emplace_back(w * h);
+      fbs[i].insert(it.name(), Imf::Slice(it.channel().type, reinterpret_cast<char*>(data[i].back().data()), 4, 4 * w));
+    }
+    Imf::InputPart part(in, i);
+    part.setFrameBuffer(fbs[i]);
+    part.readPixels(dw.min.y, dw.max.y);
+  }
+  Imf::MultiPartOutputFile out(dst.c_str(), headers.data(), int(headers.size()));
+  for (int i = 0; i < in.parts(); ++i) {
+    Imf::OutputPart part(out, i);
+    part.setFrameBuffer(fbs[i]);
+    part.writePixels(headers[i].dataWindow().max.y + 1);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("exr: the streaming reader gives the written rows bit for bit, any batch size", "[exr]") {
+  TempDir dir;
+  const bool reference = GENERATE(false, true);
+  // 300 rows: more than one of the reader's 256-row blocks, not a multiple of
+  // ZIP's 16-row blocks.
+  const ProfileFileInfo info = make_info(40, 300, reference);
+  const fs::path file = dir.path / "s.exr";
+  const Written w = write_random(file, info, 11);
+  const auto compression = GENERATE(Imf::ZIP_COMPRESSION, Imf::ZIPS_COMPRESSION, Imf::NO_COMPRESSION,
+                                    Imf::PIZ_COMPRESSION, Imf::RLE_COMPRESSION);
+  const fs::path other = dir.path / "other.exr";
+  recompress(file, other, compression);
+  const vts::ProfileRecording whole = vts::read_profile_exr(other);
+  for (const int batch : {1, 3, 16, 17, 255, 256, 257, 1000}) {
+    INFO("compression " << int(compression) << ", batch " << batch);
+    const vts::ProfileRecording rec = read_streamed(other, batch);
+    check_same_info(rec.info, info);
+    REQUIRE(rec.profiles.size() == w.profiles.size());
+    REQUIRE(rec.row_values == whole.row_values);
+    for (std::size_t r = 0; r < w.profiles.size(); ++r) {
+      check_same(rec.profiles[r], w.profiles[r]);
+      check_same(whole.profiles[r], w.profiles[r]);
+      if (reference) check_same(rec.reference[r], w.reference[r]);
+    }
+  }
+}
+
+TEST_CASE("exr: the streaming reader reads versions 2 and 1 as the whole-file reader", "[exr]") {
+  TempDir dir;
+  const fs::path v2 = dir.path / "v2.exr";
+  write_fixture(v2);
+  for (const fs::path& file : {v2, kV1Fixture})
+    for (const int batch : {1, 2, 7, 256}) {
+      INFO(file << ", batch " << batch);
+      check_fixture(read_streamed(file, batch));
+    }
+}
+
+TEST_CASE("exr: a file cut in its pixels streams up to the cut, then fails as a whole read does", "[exr]") {
+  TempDir dir;
+  const ProfileFileInfo info = make_info(16, 600, false);
+  const fs::path file = dir.path / "long.exr";
+  const Written w = write_random(file, info, 5);
+  const std::string bytes = slurp(file);
+  const fs::path cut = dir.path / "cut.exr";
+  spit(cut, bytes.substr(0, bytes.size() * 3 / 4));
+  std::string whole_message;
+  try {
+    vts::read_profile_exr(cut);
+  } catch (const ExrError& e) {
+    whole_message = e.what();
+  }
+  REQUIRE_THAT(whole_message, Catch::Contains("cut.exr") && Catch::Contains("Early end of file"));
+  vts::ProfileExrReader reader(cut);
+  std::vector<Profile> batch;
+  REQUIRE(reader.read(256, batch) == 256);  // the cut is past the first block
+  for (int r = 0; r < 256; ++r) check_same(batch[r], w.profiles[r]);
+  std::string message;
+  try {
+    while (reader.read(256, batch) > 0) {
+    }
+  } catch (const ExrError& e) {
+    message = e.what();
+  }
+  CHECK(message == whole_message);
 }
