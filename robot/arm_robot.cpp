@@ -65,7 +65,7 @@ bool ArmRobot::advance(double t) {
   // A servo target spans the whole advance: the path reaches it at t; each
   // cycle samples the straight line to it.
   const Pose3 from = path_.commanded();
-  const bool servoing = path_.moving() && path_.queued() == 0;
+  const bool servoing = path_.servo_pending();
   const double t0 = time_s_;
   while (static_cast<double>(cycle_ + 1) * dt <= t + 1e-12) {
     ++cycle_;
@@ -93,7 +93,7 @@ bool ArmRobot::advance(double t) {
     }
     servo_.step(q_cmd_);  // after a fault: hold the last command, the arm settles there
   }
-  if (servoing && path_.moving()) path_.advance(t);
+  if (path_.servo_pending()) path_.advance(t);
   time_s_ = t;
   return done;
 }

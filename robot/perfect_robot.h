@@ -60,7 +60,8 @@ class PerfectRobot final : public Robot {
   Pose3 tcp() const override;
   // The commanded path's pose at the current time (no correction).
   const Pose3& commanded() const { return commanded_; }
-  // The pending servo target (meaningful while moving() with nothing queued).
+  // A servo target not yet reached, and that target.
+  bool servo_pending() const { return servo_; }
   const Pose3& servo_target() const { return servo_target_; }
   double time_s() const override { return time_s_; }
   bool moving() const override { return !segments_.empty() || servo_; }

@@ -5,7 +5,6 @@
 
 #include "common/version.h"
 #include "robot/arm_robot.h"
-#include "sensor/virtual_sensor.h"
 #include "pipeline/profile_truth.h"
 #include "sensor/sim_cell.h"
 
@@ -52,6 +51,10 @@ std::unique_ptr<robot::Robot> make_robot(const HostOptions& o, const Pose3& home
   return std::make_unique<robot::ArmRobot>(s, home);
 }
 
+Json unknown_command(const Request& r) {
+  return error_answer(r.id, "unknown_command", "unknown command \"" + r.cmd + "\" (docs/PROTOCOL.md)");
+}
+
 struct Failed : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -78,19 +81,20 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   }
   robot_ = make_robot(options, home);
+  arm_ = options.robot != "perfect";
+  head_ = dynamic_cast<VirtualProfileStream*>(&sensor().stream());
   sensor().on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,
-                                   std::optional<tk::Event> e) {
+                               std::optional<tk::Event> e) {
     if (j) {
-      Json jj = joint_json(*j);
-      joints_.push_back(jj);
+      joints_.push_back(*j);
       while (joints_.size() > kJointsHeld) {
-        joints_dropped_index_ = joints_.front()["profile_index"].get<std::int64_t>();
+        joints_dropped_index_ = joints_.front().profile_index;
         joints_.pop_front();
       }
       if (publish && subscribers_[static_cast<int>(Topic::Joint)] > 0) {
         Json m;
         m["event"] = "joint";
-        m["joint"] = std::move(jj);
+        m["joint"] = joint_json(*j);
         publish(m, Topic::Joint);
       }
     }
@@ -98,8 +102,7 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
       Json ev = event_json(*e, p.time_s);
       if (*e == tk::Event::StartFound && sensor().start_point()) ev["point"] = to_json(*sensor().start_point());
       if (*e == tk::Event::EndFound && sensor().end_point()) ev["point"] = to_json(*sensor().end_point());
-      step_events_.push_back(ev);
-      if (publish) publish(ev, Topic::Event);
+      raise(ev);
     }
     if (publish && subscribers_[static_cast<int>(Topic::Profile)] > 0) {
       Json m;
@@ -108,6 +111,11 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
       publish(m, Topic::Profile);
     }
   };
+}
+
+void CellHost::raise(const Json& event) {
+  step_events_.push_back(event);
+  if (publish) publish(event, Topic::Event);
 }
 
 CellHost::~CellHost() = default;
@@ -165,32 +173,24 @@ Json CellHost::step(double to_s) {
       j["event"] = "robot-fault";
       j["time_s"] = t;
       j["message"] = robot_->fault();
-      step_events_.push_back(j);
-      if (publish) publish(j, Topic::Event);
+      raise(j);
     }
     // The sensor's data are stamped with the pose the controller reports;
     // it scans where the arm really is.
     const Pose3 reported = robot_->reported_tcp();
-    if (auto* vs = dynamic_cast<VirtualProfileStream*>(&sensor().stream())) {
-      if (options_.robot == "perfect")
-        vs->actual_from_reported.reset();
-      else
-        vs->actual_from_reported = Pose3(robot_->tcp() * reported.inverse());
-    }
+    if (head_ && arm_) head_->actual_from_reported = Pose3(robot_->tcp() * reported.inverse());
     const std::vector<tk::Event> ev = sensor().advance(t, reported);
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
       Json j = event_json(e, t);
       j["message"] = sensor().error();
-      step_events_.push_back(j);
-      if (publish) publish(j, Topic::Event);
+      raise(j);
     }
     if (done) {
       Json j;
       j["event"] = "move-done";
       j["time_s"] = t;
-      step_events_.push_back(j);
-      if (publish) publish(j, Topic::Event);
+      raise(j);
     }
   };
   for (double b : robot_->breaks_before(to_s)) run_to(b);
@@ -451,8 +451,8 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
   } else if (c == "sensor.joints") {
     const std::int64_t after = integer_field(b, "after_index", -1, INT64_MAX, -1);
     Json list = Json::array();
-    for (const Json& j : joints_)
-      if (j["profile_index"].get<std::int64_t>() > after) list.push_back(j);
+    for (const tk::JointData& j : joints_)
+      if (j.profile_index > after) list.push_back(joint_json(j));
     a["joints"] = list;
     a["dropped"] = joints_dropped_index_ > after ? 1 : 0;
   } else if (c == "sensor.profile") {
@@ -475,25 +475,10 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
       a["joints_deg"] = jd;
     }
     a["fault"] = robot_->fault().empty() ? Json(nullptr) : Json(robot_->fault());
-  } else if (c.rfind("robot.", 0) == 0 && c != "robot.pose" && (require_control(r, peer), !robot_->fault().empty())) {
-    throw Failed(c + ": the robot stopped on a fault: " + robot_->fault());
-  } else if (c == "robot.servo") {
+  } else if (c.rfind("robot.", 0) == 0) {
     require_control(r, peer);
-    robot_->servo(pose_field(b, "world_from_tool"));
-  } else if (c == "robot.move") {
-    require_control(r, peer);
-    const Pose3 target = pose_field(b, "world_from_tool");
-    const double speed = number_field(b, "speed_mm_s", 0.1, 2000.0);
-    if (!robot_->move(target, speed, bool_field(b, "queue", false)))
-      throw Failed("robot.move: " + std::to_string(robot::PerfectRobot::kMaxQueued) + " moves are queued already");
-  } else if (c == "robot.stop") {
-    require_control(r, peer);
-    robot_->stop();
-  } else if (c == "robot.correct") {
-    require_control(r, peer);
-    const Eigen::Vector3d off = vec3_field(b, "offset_mm");
-    if (off.norm() > 100.0) throw BadArgument("offset_mm = " + to_json(off).dump() + ": longer than 100 mm");
-    robot_->set_correction(off);
+    if (!robot_->fault().empty()) throw Failed(c + ": the robot stopped on a fault: " + robot_->fault());
+    return robot_command(r);
   } else if (c == "sim.job") {
     a.update(job_json());
   } else if (c == "sim.truth") {
@@ -507,9 +492,31 @@ Json CellHost::dispatch(const Request& r, Peer& peer) {
     peer.joints = joints;
     subscribe(peer, +1);
   } else {
-    return error_answer(r.id, "unknown_command", "unknown command \"" + c + "\" (docs/PROTOCOL.md)");
+    return unknown_command(r);
   }
   return a;
+}
+
+Json CellHost::robot_command(const Request& r) {
+  const std::string& c = r.cmd;
+  const Json& b = r.body;
+  if (c == "robot.servo") {
+    robot_->servo(pose_field(b, "world_from_tool"));
+  } else if (c == "robot.move") {
+    const Pose3 target = pose_field(b, "world_from_tool");
+    const double speed = number_field(b, "speed_mm_s", 0.1, 2000.0);
+    if (!robot_->move(target, speed, bool_field(b, "queue", false)))
+      throw Failed("robot.move: " + std::to_string(robot::PerfectRobot::kMaxQueued) + " moves are queued already");
+  } else if (c == "robot.stop") {
+    robot_->stop();
+  } else if (c == "robot.correct") {
+    const Eigen::Vector3d off = vec3_field(b, "offset_mm");
+    if (off.norm() > 100.0) throw BadArgument("offset_mm = " + to_json(off).dump() + ": longer than 100 mm");
+    robot_->set_correction(off);
+  } else {
+    return unknown_command(r);
+  }
+  return ok_answer(r.id);
 }
 
 }  // namespace vts::server

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "pipeline/sim_run.h"
+#include "sensor/virtual_sensor.h"
 #include "server/protocol.h"
 #include "robot/perfect_robot.h"
 
@@ -80,6 +81,8 @@ class CellHost {
   Json state_json() const;
   void require_control(const Request& r, const Peer& peer) const;
   void subscribe(const Peer& peer, int add);  // the peer's subscriptions counted in or out
+  void raise(const Json& event);  // into the current step's answer and to the subscribers
+  Json robot_command(const Request& r);  // robot.servo, .move, .stop, .correct
 
   tracker::SensorUnit& sensor() const;
   std::string cell_name() const;
@@ -88,9 +91,13 @@ class CellHost {
   HostOptions options_;
   std::optional<SimRig> box_;    // the box cell, or
   std::optional<CellRig> cell_;  // another cell
+  // The virtual sensor head behind the unit, told where an arm really is
+  // (VirtualProfileStream::actual_from_reported); null on a replay.
+  VirtualProfileStream* head_ = nullptr;
+  bool arm_ = false;  // the robot is an arm: it may not be where it reports
   std::unique_ptr<robot::Robot> robot_;
   bool controller_taken_ = false;
-  std::deque<Json> joints_;             // the last kJointsHeld joint data, oldest first
+  std::deque<tracker::JointData> joints_;  // the last kJointsHeld joint data, oldest first
   std::int64_t joints_dropped_index_ = -1;  // the newest profile index dropped from joints_
   Json step_events_;                    // events raised in the current advance
   int subscribers_[3] = {0, 0, 0};      // peers subscribed, per Topic
