@@ -171,40 +171,47 @@ Singularity singularity(const ArmModel& m, const Joints& q) {
   return s;
 }
 
+namespace {
+
+// The solution of one branch (q1 facing the wrist centre or away, elbow up
+// or down, wrist flipped or not); false when the wrist centre is out of reach.
+bool solve_branch(const ArmModel& m, const Pose3& t, bool front, bool up, bool flip, Solution& s) {
+  const Eigen::Vector3d w = t.translation() - m.axes[5].d_mm * t.linear().col(2);
+  const double q1 = wrap(front ? std::atan2(w.y(), w.x()) : std::atan2(w.y(), w.x()) + M_PI);
+  const Plane p = plane(m, w, q1);
+  const double a2 = m.axes[1].a_mm;
+  const double D = (p.R * p.R + p.S * p.S - a2 * a2 - p.L3 * p.L3) / (2.0 * a2 * p.L3);
+  if (std::abs(D) > 1.0 + 1e-12) return false;
+  const double psi0 = std::acos(std::clamp(D, -1.0, 1.0));
+  const double psi = up ? psi0 : -psi0;  // q3 + gamma
+  // The upper arm's angle from vertical: the direction to the wrist centre
+  // less the forearm's share of it.
+  const double q2 = std::atan2(p.R, p.S) - std::atan2(p.L3 * std::sin(psi), a2 + p.L3 * std::cos(psi));
+  const double q3 = psi - p.gamma;
+  Joints q;
+  q << q1, wrap(q2), wrap(q3), 0.0, 0.0, 0.0;
+  const Eigen::Matrix3d r03 = chain(m, q, 3).block<3, 3>(0, 0);
+  const Eigen::Matrix3d r36 = r03.transpose() * t.linear();
+  double q4, q5, q6;
+  wrist(r36, flip, q4, q5, q6);
+  s.q = q;
+  s.q[3] = q4;
+  s.q[4] = q5;
+  s.q[5] = q6;
+  s.config = config_of(m, s.q);
+  return true;
+}
+
+}  // namespace
+
 std::vector<Solution> inverse_all(const ArmModel& m, const Pose3& t) {
   std::vector<Solution> out;
-  const Eigen::Vector3d w = t.translation() - m.axes[5].d_mm * t.linear().col(2);
-  const double base = std::atan2(w.y(), w.x());
-  for (bool front : {true, false}) {
-    const double q1 = wrap(front ? base : base + M_PI);
-    const Plane p = plane(m, w, q1);
-    const double a2 = m.axes[1].a_mm;
-    const double D = (p.R * p.R + p.S * p.S - a2 * a2 - p.L3 * p.L3) / (2.0 * a2 * p.L3);
-    if (std::abs(D) > 1.0 + 1e-12) continue;
-    const double psi0 = std::acos(std::clamp(D, -1.0, 1.0));
-    for (bool up : {true, false}) {
-      const double psi = up ? psi0 : -psi0;  // q3 + gamma
-      // The upper arm's angle from vertical: the direction to the wrist
-      // centre less the forearm's share of it.
-      const double q2 = std::atan2(p.R, p.S) - std::atan2(p.L3 * std::sin(psi), a2 + p.L3 * std::cos(psi));
-      const double q3 = psi - p.gamma;
-      Joints q;
-      q << q1, wrap(q2), wrap(q3), 0.0, 0.0, 0.0;
-      const Eigen::Matrix3d r03 = chain(m, q, 3).block<3, 3>(0, 0);
-      const Eigen::Matrix3d r36 = r03.transpose() * t.linear();
+  for (bool front : {true, false})
+    for (bool up : {true, false})
       for (bool flip : {false, true}) {
-        double q4, q5, q6;
-        wrist(r36, flip, q4, q5, q6);
         Solution s;
-        s.q = q;
-        s.q[3] = q4;
-        s.q[4] = q5;
-        s.q[5] = q6;
-        s.config = config_of(m, s.q);
-        out.push_back(s);
+        if (solve_branch(m, t, front, up, flip, s)) out.push_back(s);
       }
-    }
-  }
   return out;
 }
 
@@ -220,10 +227,19 @@ std::string_view to_string(IkStatus s) {
 
 IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const Joints& near, const Limits& limits) {
   IkResult r;
-  const std::vector<Solution> all = inverse_all(m, t);
+  // The branch of the configuration is the one that has it, but at its
+  // boundaries (singular poses) the flags are told by the joints: then
+  // search all.
+  Solution own;
   const Solution* pick = nullptr;
-  for (const Solution& s : all)
-    if (s.config == config) pick = &s;
+  std::vector<Solution> all;
+  if (solve_branch(m, t, config.front, config.elbow_up, config.flip, own) && own.config == config) {
+    pick = &own;
+  } else {
+    all = inverse_all(m, t);
+    for (const Solution& s : all)
+      if (s.config == config) pick = &s;
+  }
   if (!pick) {
     r.status = IkStatus::Unreachable;
     std::ostringstream o;
