@@ -9,14 +9,13 @@
 #include "apps/cli.h"
 #include "apps/vts_sim.h"
 #include "sensor/profile_exr.h"
-#include "robot/arm.h"
 #include "server/server.h"
 
 namespace vts::apps {
 namespace {
 
 struct ServeOptions : BoxOptions {
-  std::string listen, port, max_clients, cell, scene, robot, robot_seed;
+  std::string listen, port, max_clients, cell, scene;
   bool allow_remote = false, realtime = false;
 };
 
@@ -47,15 +46,8 @@ int run_serve(const ServeOptions& o) {
     host_options.sim = box_spec(box);  // the source and the seed, for any cell
   }
   host_options.realtime = o.realtime;
-  if (!o.robot.empty()) {
-    if (o.robot != "perfect" && !robot::arm_preset(o.robot))
-      cli::bad("--robot", o.robot, "expected perfect, irb2400 or kr16");
-    host_options.robot = o.robot;
-  }
-  if (!o.robot_seed.empty()) {
-    if (host_options.robot == "perfect") cli::bad("--robot-seed", o.robot_seed, "only with an arm (--robot irb2400 or kr16)");
-    host_options.robot_seed = cli::parse_seed("--robot-seed", o.robot_seed);
-  }
+  host_options.robot = host_options.sim.robot;
+  host_options.robot_seed = host_options.sim.robot_seed;
   cli::apply_thread_limit(o.threads);
   server::ServerOptions so;
   if (!o.listen.empty()) {
@@ -118,13 +110,6 @@ CLI::App* add_serve_command(CLI::App& app, int& exit_code) {
                   "mounted 50 mm ahead of the torch; each profile carries its joint's truth (default: box)")
       ->type_name("NAME");
   cmd->add_option("--scene", o->scene, "Serve the cell of this scene file (docs/SCENE_FORMAT.md)")->type_name("FILE");
-  cmd->add_option("--robot", o->robot,
-                  "The robot: perfect (the TCP where commanded, at once; default) or an arm, irb2400 or kr16, with "
-                  "its joint servo, 3-cycle correction latency, limits and singularities (docs/ROBOT.md)")
-      ->type_name("NAME");
-  cmd->add_option("--robot-seed", o->robot_seed,
-                  "With an arm: the absolute-accuracy errors of this seed (0.2-1 mm at the flange; default: none)")
-      ->type_name("S");
   cmd->add_option("--max-clients", o->max_clients, "Most clients connected at once, 1..4096 (default 256)")
       ->type_name("N");
   cmd->callback([o, &exit_code] {

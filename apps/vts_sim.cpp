@@ -15,7 +15,9 @@
 
 #include "apps/cli.h"
 #include "pipeline/groove_passes.h"
+#include "pipeline/scenario.h"
 #include "pipeline/sim_run.h"
+#include "robot/robots.h"
 #include "sensor/presets.h"
 
 namespace vts::apps {
@@ -26,7 +28,8 @@ using cli::bad;
 using Json = trackio::Json;
 
 struct SimOptions : BoxOptions {
-  std::string out_dir, replay;
+  std::string out_dir, replay, scenario;
+  bool list_scenarios = false, all = false;
   std::string cell, scene, passes, first_pass, profiles;  // a multi-pass groove instead of the box
   bool json = false;
 };
@@ -75,6 +78,14 @@ SimSpec box_spec(const BoxOptions& o) {
   spec.source = cli::parse_source("--source", o.source.empty() ? "raster" : o.source);
   spec.cell.standoff_mm = sim_standoff_mm(sc);
   if (const std::string why = validate(spec.cell); !why.empty()) throw cli::UsageError("cell: " + why);
+  if (!o.robot.empty()) {
+    if (!robot::is_robot_name(o.robot)) bad("--robot", o.robot, "expected one of " + join_names(robot::robot_names()));
+    spec.robot = o.robot;
+  }
+  if (!o.robot_seed.empty()) {
+    if (spec.robot == "perfect") bad("--robot-seed", o.robot_seed, "only with an arm (--robot irb2400 or kr16)");
+    spec.robot_seed = cli::parse_seed("--robot-seed", o.robot_seed);
+  }
   return spec;
 }
 
@@ -94,6 +105,13 @@ void add_box_options(CLI::App* cmd, BoxOptions& o) {
   cmd->add_option("--material", o.material, "Surface material preset, default matte-steel")->type_name("NAME");
   cmd->add_flag("--ideal", o.ideal, "Error model off: ideal geometric profiles");
   cmd->add_option("--threads", o.threads, cli::kThreadsHelp)->type_name("N");
+  cmd->add_option("--robot", o.robot,
+                  "The robot: perfect (the TCP where commanded, at once; default) or an arm, irb2400 or kr16, with "
+                  "its joint servo, 3-cycle correction latency, limits and singularities (docs/ROBOT.md)")
+      ->type_name("NAME");
+  cmd->add_option("--robot-seed", o.robot_seed,
+                  "With an arm: the absolute-accuracy errors of this seed (0.2-1 mm at the flange; default: none)")
+      ->type_name("S");
 }
 
 namespace {
@@ -104,16 +122,14 @@ struct SimPlan {
   fs::path out_dir;
 };
 
+fs::path out_dir_option(const std::string& dir);
+
 SimPlan plan_sim(const SimOptions& o) {
   SimPlan plan;
   plan.spec = box_spec(o);
   SimSpec& spec = plan.spec;
-  const std::string dir = o.out_dir.empty() ? std::string("sim") : o.out_dir;
+  plan.out_dir = out_dir_option(o.out_dir.empty() ? std::string("sim") : o.out_dir);
   std::error_code ec;
-  plan.out_dir = fs::absolute(dir, ec).lexically_normal();
-  if (ec) bad("--out-dir", dir, "cannot make an absolute path: " + ec.message());
-  if (fs::exists(plan.out_dir, ec) && !fs::is_directory(plan.out_dir, ec))
-    bad("--out-dir", dir, "exists and is not a directory");
   if (!o.replay.empty()) {
     spec.replay = o.replay;
     if (!fs::is_regular_file(spec.replay, ec)) bad("--replay", o.replay, "no such file");
@@ -148,76 +164,174 @@ int run_passes(const SimOptions& o) {
   return all ? cli::kExitOk : cli::kExitRuntime;
 }
 
-int run_sim(const SimOptions& o) {
-  if (!o.cell.empty() || !o.scene.empty()) return run_passes(o);
-  const SimPlan plan = plan_sim(o);  // throws UsageError; nothing created yet
-  const SimSpec& spec = plan.spec;
+// One run of `spec` with its outputs under out_dir (timeseries.csv,
+// profiles.exr unless a replay, tracking_error.png), each written whole.
+struct Simulated {
+  SimRun run;
+  double wall_s = 0.0;      // the whole: simulation and outputs
+  double sim_wall_s = 0.0;  // the simulation alone (closed and open loop)
+};
+Simulated simulate(const SimSpec& spec, const fs::path& out_dir) {
   const auto wall0 = std::chrono::steady_clock::now();
   // The measured profiles go to a scratch file in the output directory as
   // they are taken; both appear only once the sensor delivers.
   std::unique_ptr<ProfileSpool> spool;
-  const SimRun run = run_sim(spec, [&](const Profile& p) {
+  Simulated sim;
+  sim.run = run_sim(spec, [&](const Profile& p) {
     if (!spool) {
-      fs::create_directories(plan.out_dir);
-      spool = std::make_unique<ProfileSpool>(plan.out_dir / (".profiles.spool-" + std::to_string(::getpid())));
+      fs::create_directories(out_dir);
+      spool = std::make_unique<ProfileSpool>(out_dir / (".profiles.spool-" + std::to_string(::getpid())));
     }
     spool->add(p);
   });
-  const ScannerDesc& scanner = run.scanner;
-
-  // Outputs, each under a temporary name first.
-  fs::create_directories(plan.out_dir);
-  cli::write_text_file(plan.out_dir / "timeseries.csv", sim_timeseries_csv(run));
+  sim.sim_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const SimRun& run = sim.run;
+  fs::create_directories(out_dir);
+  cli::write_text_file(out_dir / "timeseries.csv", sim_timeseries_csv(run));
   if (spool) {
     ProfileFileInfo info;
-    info.scanner = scanner;
+    info.scanner = run.scanner;
     info.scene_name = "sim-box";
-    info.error_model = !scanner.ideal;
+    info.error_model = !run.scanner.ideal;
     info.seed = spec.seed;
-    if (spool->count() > 0) spool->write_exr(plan.out_dir / "profiles.exr", info);
+    if (spool->count() > 0) spool->write_exr(out_dir / "profiles.exr", info);
   }
-  if (const std::string err = sim_error_figure(run).save_png(plan.out_dir / "tracking_error.png"); !err.empty())
+  if (const std::string err = sim_error_figure(run).save_png(out_dir / "tracking_error.png"); !err.empty())
     throw std::runtime_error(err);
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  sim.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  return sim;
+}
+
+void print_text_summary(const SimSpec& spec, const Simulated& sim, const fs::path& out_dir) {
+  const SimRun& run = sim.run;
+  const ScannerDesc& scanner = run.scanner;
   const auto& metrics = run.metrics;
+  std::printf("vts sim: box cell, workpiece displaced %.2f mm and turned %.2f deg from nominal (seed %llu)\n",
+              run.offset_mm(), run.rotation_deg(), static_cast<unsigned long long>(spec.seed));
+  std::printf("sensor %s, %s, error model %s, %s source, %.0f Hz, %.1f mm/s, robot %s\n", scanner.name.c_str(),
+              scanner.material.c_str(), scanner.ideal ? "off" : "on", run.source_name.c_str(), scanner.rate_hz,
+              spec.speed_mm_s, run.robot.c_str());
+  for (std::size_t k = 0; k < metrics.size(); ++k) {
+    const SeamMetrics& m = metrics[k];
+    std::printf(
+        "seam %zu: search %.1f mm, start error %.3f mm, rms lateral %.3f mm, rms vertical %.3f mm, max %.3f mm, "
+        "end error %.3f mm, welded %.1f mm; sensor track points rms %.4f mm%s%s%s\n",
+        k + 1, m.search_mm, m.start_error_mm, m.rms_lateral_mm, m.rms_vertical_mm, m.max_error_mm, m.end_error_mm,
+        m.welded_mm, m.sensor_rms_mm, m.lost ? ", SEAM LOST" : "", m.failure.empty() ? "" : ", failed: ",
+        m.failure.c_str());
+    if (k < run.open_loop_metrics.size()) {
+      const SeamMetrics& ol = run.open_loop_metrics[k];
+      std::printf("        open loop (the same program without the sensor): rms lateral %.3f mm, rms vertical %.3f mm, "
+                  "max %.3f mm\n",
+                  ol.rms_lateral_mm, ol.rms_vertical_mm, ol.max_error_mm);
+    }
+  }
+  if (!run.robot_fault.empty()) std::printf("robot: %s\n", run.robot_fault.c_str());
+  std::printf("%lld profiles, %.1f s simulated in %.2f s; wrote %s/{timeseries.csv,%stracking_error.png}\n",
+              static_cast<long long>(run.profiles), run.sim_time_s(), sim.wall_s, out_dir.c_str(),
+              spec.replay.empty() ? "profiles.exr," : "");
+}
+
+fs::path out_dir_option(const std::string& dir) {
+  std::error_code ec;
+  fs::path out = fs::absolute(dir, ec).lexically_normal();
+  if (ec) bad("--out-dir", dir, "cannot make an absolute path: " + ec.message());
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) bad("--out-dir", dir, "exists and is not a directory");
+  return out;
+}
+
+// `--scenarios`, `--scenario NAME|FILE` and `--all`.
+int run_scenarios(const SimOptions& o) {
+  if (o.list_scenarios) {
+    for (const std::string& name : scenario_names()) {
+      const Scenario sc = builtin_scenario(name);
+      std::printf("%-22s %-4s  %s\n", name.c_str(), sc.expect_pass ? "pass" : "fail", sc.description.c_str());
+    }
+    return cli::kExitOk;
+  }
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
+                               {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
+                               {"--seed", &o.seed}, {"--sensor", &o.sensor}, {"--material", &o.material},
+                               {"--robot", &o.robot}, {"--robot-seed", &o.robot_seed}, {"--replay", &o.replay},
+                               {"--cell", &o.cell}, {"--scene", &o.scene}})
+    if (!v->empty()) bad(opt, *v, "a scenario sets it in its file; not with --scenario or --all");
+  if (o.all && !o.scenario.empty()) bad("--scenario", o.scenario, "give --scenario or --all, not both");
+  std::vector<Scenario> scenarios;
+  try {
+    if (o.all) {
+      for (const std::string& name : scenario_names()) scenarios.push_back(builtin_scenario(name));
+    } else if (o.scenario.find('/') != std::string::npos || o.scenario.ends_with(".yaml")) {
+      scenarios.push_back(load_scenario(o.scenario));
+    } else {
+      scenarios.push_back(builtin_scenario(o.scenario));
+    }
+  } catch (const ScenarioError& e) {
+    throw cli::UsageError(e.what());
+  }
+  const fs::path base = out_dir_option(o.out_dir.empty() ? std::string("sim") : o.out_dir);
+  cli::apply_thread_limit(o.threads);
+  bool all_as_expected = true;
+  Json list = Json::array();
+  if (!o.json && o.all)
+    std::printf("| scenario | expected | verdict | seam | tracked rms lat / vert (mm) | tracked max (mm) | "
+                "open loop rms lat / max (mm) | sim time (s) | x real time | reason |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  for (Scenario& sc : scenarios) {
+    if (!o.source.empty()) sc.spec.source = cli::parse_source("--source", o.source);
+    const fs::path out = o.all ? base / sc.name : base;
+    const Simulated sim = simulate(sc.spec, out);
+    const std::string reason = scenario_failure(sim.run);
+    const bool passed = reason.empty();
+    const bool as_expected =
+        passed == sc.expect_pass && (passed || sc.expect_reason.empty() || reason.find(sc.expect_reason) != std::string::npos);
+    all_as_expected = all_as_expected && as_expected;
+    if (o.json) {
+      Json j = sim_summary_json(sc.spec, sim.run, sim.wall_s, sim.sim_wall_s);
+      j["scenario"] = sc.name;
+      j["description"] = sc.description;
+      j["expect"] = sc.expect_pass ? "pass" : "fail";
+      j["verdict"] = passed ? "pass" : "fail";
+      j["reason"] = reason;
+      j["as_expected"] = as_expected;
+      j["real_time_factor"] = sim.run.sim_time_s() / std::max(sim.sim_wall_s, 1e-9);
+      j["out_dir"] = out.string();
+      if (o.all) list.push_back(j);
+      else std::cout << j.dump() << "\n";
+    } else if (o.all) {
+      const SimRun& run = sim.run;
+      for (std::size_t k = 0; k < run.metrics.size(); ++k) {
+        const SeamMetrics& m = run.metrics[k];
+        const SeamMetrics ol = k < run.open_loop_metrics.size() ? run.open_loop_metrics[k] : SeamMetrics{};
+        std::printf("| %s | %s | %s%s | %zu | %.3f / %.3f | %.3f | %.2f / %.2f | %.1f | %.0f | %s |\n",
+                    k == 0 ? sc.name.c_str() : "", k == 0 ? (sc.expect_pass ? "pass" : "fail") : "",
+                    k == 0 ? (passed ? "pass" : "fail") : "", k == 0 && !as_expected ? " (UNEXPECTED)" : "", k + 1,
+                    m.rms_lateral_mm, m.rms_vertical_mm, m.max_error_mm, ol.rms_lateral_mm, ol.max_error_mm,
+                    run.sim_time_s(), run.sim_time_s() / std::max(sim.sim_wall_s, 1e-9), k == 0 ? reason.c_str() : "");
+      }
+    } else {
+      std::printf("scenario %s: %s\n", sc.name.c_str(), sc.description.c_str());
+      print_text_summary(sc.spec, sim, out);
+      std::printf("verdict: %s%s%s (expected %s)\n", passed ? "pass" : "fail", passed ? "" : ": ", reason.c_str(),
+                  sc.expect_pass ? "pass" : "fail");
+    }
+    std::fflush(stdout);
+  }
+  if (o.json && o.all) std::cout << list.dump() << "\n";
+  return all_as_expected ? cli::kExitOk : cli::kExitRuntime;
+}
+
+int run_sim(const SimOptions& o) {
+  if (o.list_scenarios || o.all || !o.scenario.empty()) return run_scenarios(o);
+  if (!o.cell.empty() || !o.scene.empty()) return run_passes(o);
+  const SimPlan plan = plan_sim(o);  // throws UsageError; nothing created yet
+  const SimSpec& spec = plan.spec;
+  const Simulated sim = simulate(spec, plan.out_dir);
+  const SimRun& run = sim.run;
   if (o.json) {
-    Json j;
-    j["source"] = run.source_name;
-    j["sensor"] = scanner.name;
-    j["material"] = scanner.material;
-    j["error_model"] = !scanner.ideal;
-    j["seed"] = spec.seed;
-    j["speed_mm_s"] = spec.speed_mm_s;
-    j["rate_hz"] = scanner.rate_hz;
-    j["workpiece_offset_mm"] = run.offset_mm();
-    j["workpiece_rotation_deg"] = run.rotation_deg();
-    j["profiles"] = run.profiles;
-    j["sim_time_s"] = run.sim_time_s();
-    j["wall_time_s"] = wall_s;
-    j["completed"] = run.completed();
-    Json seams = Json::array();
-    for (std::size_t k = 0; k < metrics.size(); ++k) seams.push_back(seam_metrics_json(metrics[k], static_cast<int>(k)));
-    j["seams"] = seams;
+    Json j = sim_summary_json(spec, run, sim.wall_s, sim.sim_wall_s);
     j["out_dir"] = plan.out_dir.string();
     std::cout << j.dump() << "\n";
   } else {
-    std::printf("vts sim: box cell, workpiece displaced %.2f mm and turned %.2f deg from nominal (seed %llu)\n",
-                run.offset_mm(), run.rotation_deg(), static_cast<unsigned long long>(spec.seed));
-    std::printf("sensor %s, %s, error model %s, %s source, %.0f Hz, %.1f mm/s\n", scanner.name.c_str(),
-                scanner.material.c_str(), scanner.ideal ? "off" : "on", run.source_name.c_str(), scanner.rate_hz,
-                spec.speed_mm_s);
-    for (std::size_t k = 0; k < metrics.size(); ++k) {
-      const SeamMetrics& m = metrics[k];
-      std::printf(
-          "seam %zu: search %.1f mm, start error %.3f mm, rms lateral %.3f mm, rms vertical %.3f mm, max %.3f mm, "
-          "end error %.3f mm, welded %.1f mm; sensor track points rms %.4f mm%s%s%s\n",
-          k + 1, m.search_mm, m.start_error_mm, m.rms_lateral_mm, m.rms_vertical_mm, m.max_error_mm,
-          m.end_error_mm, m.welded_mm, m.sensor_rms_mm, m.lost ? ", SEAM LOST" : "", m.failure.empty() ? "" : ", failed: ",
-          m.failure.c_str());
-    }
-    std::printf("%lld profiles, %.1f s simulated in %.2f s; wrote %s/{timeseries.csv,%stracking_error.png}\n",
-                static_cast<long long>(run.profiles), run.sim_time_s(), wall_s, plan.out_dir.c_str(),
-                spec.replay.empty() ? "profiles.exr," : "");
+    print_text_summary(spec, sim, plan.out_dir);
   }
   std::fflush(stdout);
   return run.completed() ? cli::kExitOk : cli::kExitRuntime;
@@ -241,7 +355,16 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
                   "move as it did then (same --speed); errors are measured against the cell of --seed, --offset and "
                   "--rotation, so give the recorded run's (no profiles.exr is written)")
       ->type_name("FILE.exr");
-  cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
+  cmd->add_flag("--json", o->json, "Print the summary as one JSON object (with --all: a JSON array of them)");
+  cmd->add_option("--scenario", o->scenario,
+                  "Run a scenario: a built-in one by name (`--scenarios` lists them) or a scenario file "
+                  "(docs/SIM.md): cell disturbances, robot, sensor, program and the expected verdict. Outputs go "
+                  "to --out-dir; exit 0 when the verdict is the expected one")
+      ->type_name("NAME|FILE.yaml");
+  cmd->add_flag("--scenarios", o->list_scenarios, "List the built-in scenarios with their expected verdicts");
+  cmd->add_flag("--all", o->all,
+                "Run every built-in scenario (outputs under --out-dir/NAME/); prints a table, or with --json an "
+                "array; exit 0 when every verdict is the expected one");
   cmd->add_option("--cell", o->cell,
                   "Instead of the box: a multi-pass weld of a groove cell (vgroove-thick, bevel-thick, "
                   "ugroove-fill, ...): beads laid pass after pass, the sensor asked between them; prints per pass "

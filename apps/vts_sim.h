@@ -15,7 +15,7 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code);
 // The box cell's options, shared by `vts sim` and `vts serve`: the cell's
 // displacement and seed, the sensor, the source, the speed, --threads.
 struct BoxOptions {
-  std::string speed, rate, seed, offset, rotation, source, sensor, material, threads;
+  std::string speed, rate, seed, offset, rotation, source, sensor, material, threads, robot, robot_seed;
   bool ideal = false;
 };
 void add_box_options(CLI::App* cmd, BoxOptions& options);

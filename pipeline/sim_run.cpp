@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pipeline/robot_sensor.h"
 #include "sensor/recorded_sensor.h"
 #include "sensor/virtual_sensor.h"
 
@@ -52,11 +53,19 @@ SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&
     rig.source = make_source(spec.source, run.scanner, run.cell.mesh);
     auto vs = std::make_unique<VirtualProfileStream>(*rig.source, spec.seed);
     if (record) vs->record = record;
+    rig.head = vs.get();
     stream = std::move(vs);
     run.source_name = std::string(to_string(spec.source));
   }
   rig.sensor = std::make_unique<tk::SensorUnit>(std::move(stream), sim_tracker_params(run.scanner, spec.cell.standoff_mm));
   rig.master = sim_master_params(run.cell, spec.speed_mm_s, run.scanner.rate_hz);
+  if (spec.robot != "perfect") {
+    rig.master.move_speed_mm_s = kArmMoveSpeedMmS;
+    rig.master.settle_s = kArmSettleS;
+  }
+  rig.master.weave = spec.weave;
+  if (spec.search_margin_mm) rig.master.search_margin_mm = *spec.search_margin_mm;
+  run.robot = spec.robot;
   return rig;
 }
 
@@ -88,17 +97,33 @@ CellRig make_cell_rig(const Cell& cell, SourceKind source, std::uint64_t seed) {
 SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& record) {
   SimRig rig = make_sim_rig(spec, record);
   SimRun& run = rig.run;
-  tk::Master master(rig.master);
-  run.result = master.run(*rig.sensor, run.cell.nominal_world_from_workpiece, run.cell.plan);
-  run.metrics = evaluate(run.cell, run.result);
+  {
+    RobotSensor loop(rig.sensor.get(), rig.head, spec.robot, spec.robot_seed);
+    run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
+    run.actual_tcp = loop.actual();
+    run.robot_fault = loop.fault();
+  }
+  run.metrics = evaluate(run.cell, run.result, &run.actual_tcp);
   run.profiles = rig.sensor->counters().profiles;
+  if (spec.open_loop) {
+    // The same program and robot without the sensor.
+    tk::MasterParams blind = rig.master;
+    blind.open_loop = true;
+    RobotSensor loop(nullptr, nullptr, spec.robot, spec.robot_seed);
+    run.open_loop = tk::Master(blind).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
+    run.open_loop_tcp = loop.actual();
+    run.open_loop_fault = loop.fault();
+    run.open_loop_metrics = evaluate(run.cell, run.open_loop, &run.open_loop_tcp);
+    for (auto& m : run.open_loop_metrics)
+      if (m.failure.empty() && !run.open_loop_fault.empty()) m.failure = run.open_loop_fault;
+  }
   return std::move(run);
 }
 
 bool SimRun::completed() const {
   bool ok = true;
   for (const auto& m : metrics) ok = ok && m.welded && m.end_found && m.failure.empty();
-  return ok;
+  return ok && robot_fault.empty();
 }
 
 double SimRun::sim_time_s() const { return result.samples.empty() ? 0.0 : result.samples.back().time_s; }
@@ -116,24 +141,31 @@ std::string sim_timeseries_csv(const SimRun& run) {
   std::ostringstream f;
   {
     f << "time_s,seam,phase,sensor_state,tcp_x_mm,tcp_y_mm,tcp_z_mm,q_w,q_x,q_y,q_z,s_mm,"
-         "true_x_mm,true_y_mm,true_z_mm,lateral_error_mm,vertical_error_mm\n";
+         "true_x_mm,true_y_mm,true_z_mm,lateral_error_mm,vertical_error_mm,cmd_x_mm,cmd_y_mm,cmd_z_mm,weave_mm\n";
     char buf[512];
-    for (const auto& s : run.result.samples) {
-      const Vec3 p = s.world_from_tool.translation();
-      const Eigen::Quaterniond q = rotation_quat(s.world_from_tool);
+    const auto& samples = run.result.samples;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const auto& s = samples[i];
+      const Pose tcp = i < run.actual_tcp.size() ? run.actual_tcp[i] : s.world_from_tool;
+      const Vec3 p = tcp.translation();
+      const Eigen::Quaterniond q = rotation_quat(tcp);
       std::snprintf(buf, sizeof buf, "%.4f,%d,%s,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f", s.time_s,
                     s.seam + 1, std::string(tk::to_string(s.phase)).c_str(),
                     std::string(tk::to_string(s.sensor)).c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(),
                     q.z(), s.s_mm);
       f << buf;
       if (s.phase == tk::Phase::Weld && s.seam >= 0 && s.seam < static_cast<int>(cell.truth.size())) {
-        const PointError e = seam_error(cell.truth[s.seam], p);
-        std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.5f,%.5f\n", e.true_point.x(), e.true_point.y(),
+        const PointError e = seam_error(cell.truth[s.seam], p - s.weave_mm);
+        std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.5f,%.5f", e.true_point.x(), e.true_point.y(),
                       e.true_point.z(), e.lateral_mm, e.vertical_mm);
         f << buf;
       } else {
-        f << ",,,,,\n";
+        f << ",,,,,";
       }
+      const Vec3 c = s.world_from_tool.translation();
+      const double weave = s.weave_mm.dot(s.world_from_tool.linear().col(1));
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.4f\n", c.x(), c.y(), c.z(), weave);
+      f << buf;
     }
   }
   return f.str();
@@ -147,13 +179,19 @@ plot::Canvas sim_error_figure(const SimRun& run) {
   plot::Canvas canvas(1100, 360 * n + 40);
   for (int k = 0; k < n; ++k) {
     std::vector<double> s, lat, ver;
-    for (const auto& smp : result.samples) {
-      if (smp.seam != k || smp.phase != tk::Phase::Weld) continue;
-      const PointError e = seam_error(cell.truth[k], smp.world_from_tool.translation());
-      s.push_back(smp.s_mm);
-      lat.push_back(e.lateral_mm);
-      ver.push_back(e.vertical_mm);
-    }
+    auto collect = [&](const tk::MasterResult& r, const std::vector<Pose>& actual, std::vector<double>& ss,
+                       std::vector<double>& ls, std::vector<double>& vs) {
+      for (std::size_t i = 0; i < r.samples.size(); ++i) {
+        const auto& smp = r.samples[i];
+        if (smp.seam != k || smp.phase != tk::Phase::Weld) continue;
+        const Pose tcp = i < actual.size() ? actual[i] : smp.world_from_tool;
+        const PointError e = seam_error(cell.truth[k], tcp.translation() - smp.weave_mm);
+        ss.push_back(smp.s_mm);
+        ls.push_back(e.lateral_mm);
+        vs.push_back(e.vertical_mm);
+      }
+    };
+    collect(result, run.actual_tcp, s, lat, ver);
     // Scaled to the errors (the targets, 0.1 mm rms and 0.3 mm max, are
     // drawn when they fit).
     double lim = 0.01;
@@ -181,6 +219,13 @@ plot::Canvas sim_error_figure(const SimRun& run) {
                   m.rms_lateral_mm, m.rms_vertical_mm, m.max_error_mm, m.start_error_mm, m.end_error_mm,
                   m.search_mm);
     canvas.text(90, top + 334, line, {40, 40, 40});
+    if (k < static_cast<int>(run.open_loop_metrics.size())) {
+      // The program without the sensor, for scale (not drawn: millimetres).
+      const SeamMetrics& o = run.open_loop_metrics[static_cast<std::size_t>(k)];
+      std::snprintf(line, sizeof line, "open loop (no sensor): rms lateral %.3f mm   rms vertical %.3f mm   max %.3f mm",
+                    o.rms_lateral_mm, o.rms_vertical_mm, o.max_error_mm);
+      canvas.text(600, top + 24, line, {120, 40, 40});
+    }
     canvas.text(90, top + 348,
                 "blue: lateral (in the plate, towards the open side)   orange: vertical (along the plate normal)",
                 {40, 40, 40});
@@ -208,6 +253,44 @@ trackio::Json seam_metrics_json(const SeamMetrics& m, int index) {
   j["points"] = m.points;
   j["rejected_points"] = m.rejected_points;
   j["refits"] = m.refits;
+  return j;
+}
+
+trackio::Json sim_summary_json(const SimSpec& spec, const SimRun& run, double wall_time_s, double sim_wall_time_s) {
+  trackio::Json j;
+  const ScannerDesc& scanner = run.scanner;
+  j["source"] = run.source_name;
+  j["sensor"] = scanner.name;
+  j["material"] = scanner.material;
+  j["error_model"] = !scanner.ideal;
+  j["seed"] = spec.seed;
+  j["speed_mm_s"] = spec.speed_mm_s;
+  j["rate_hz"] = scanner.rate_hz;
+  j["workpiece_offset_mm"] = run.offset_mm();
+  j["workpiece_rotation_deg"] = run.rotation_deg();
+  j["robot"] = run.robot;
+  j["robot_seed"] = spec.robot_seed;
+  j["robot_fault"] = run.robot_fault;
+  if (spec.weave.amplitude_mm > 0.0)
+    j["weave"] = {{"amplitude_mm", spec.weave.amplitude_mm}, {"frequency_hz", spec.weave.frequency_hz},
+                  {"dwell_s", spec.weave.dwell_s}};
+  j["profiles"] = run.profiles;
+  j["sim_time_s"] = run.sim_time_s();
+  j["wall_time_s"] = wall_time_s;
+  j["sim_wall_time_s"] = sim_wall_time_s;
+  j["completed"] = run.completed();
+  trackio::Json seams = trackio::Json::array();
+  for (std::size_t k = 0; k < run.metrics.size(); ++k) {
+    trackio::Json m = seam_metrics_json(run.metrics[k], static_cast<int>(k));
+    if (k < run.open_loop_metrics.size()) {
+      const SeamMetrics& o = run.open_loop_metrics[k];
+      m["open_loop"] = {{"rms_lateral_mm", o.rms_lateral_mm}, {"rms_vertical_mm", o.rms_vertical_mm},
+                        {"max_error_mm", o.max_error_mm},     {"start_error_mm", o.start_error_mm},
+                        {"end_error_mm", o.end_error_mm},     {"failure", o.failure}};
+    }
+    seams.push_back(m);
+  }
+  j["seams"] = seams;
   return j;
 }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "sensor/profile_exr.h"
 #include "sensor/scanner.h"
 #include "sensor/sim_cell.h"
+#include "sensor/virtual_sensor.h"
 #include "tracker/master.h"
 #include "trackio/result_json.h"
 
@@ -35,7 +37,20 @@ struct SimSpec {
   // Not empty: the master runs on this recording (the profiles.exr of an
   // earlier run) instead of the virtual sensor, at the recording's rate.
   std::filesystem::path replay;
+  // The robot (robot::make_robot: "perfect" or an arm preset) and the seed
+  // of the arm's absolute-accuracy errors (0: none). An arm moves between
+  // poses at kArmMoveSpeedMmS and settles kArmSettleS.
+  std::string robot = "perfect";
+  std::uint64_t robot_seed = 0;
+  tracker::MasterParams::Weave weave;
+  // The program's first search margin (mm); empty: enough for the cell's
+  // largest displacement (sim_master_params).
+  std::optional<double> search_margin_mm;
+  // Also run the same program open loop (no sensor) and report its errors.
+  bool open_loop = true;
 };
+inline constexpr double kArmMoveSpeedMmS = 100.0;
+inline constexpr double kArmSettleS = 0.3;
 
 struct SimRun {
   SimCell cell;
@@ -44,6 +59,14 @@ struct SimRun {
   tracker::MasterResult result;
   std::vector<SeamMetrics> metrics;  // per seam
   std::int64_t profiles = 0;         // taken by the sensor
+  std::string robot;                 // its name
+  std::string robot_fault;           // why the robot stopped; empty if it did not
+  std::vector<Pose> actual_tcp;      // where the TCP really was at each of result.samples
+  // The same program open loop: its samples, the TCP, the metrics and a fault.
+  tracker::MasterResult open_loop;
+  std::vector<Pose> open_loop_tcp;
+  std::vector<SeamMetrics> open_loop_metrics;
+  std::string open_loop_fault;
 
   // Both seams welded to their ends without a failure.
   bool completed() const;
@@ -62,6 +85,7 @@ struct SimRig {
   SimRun run;  // cell, scanner and source_name set; no result yet
   std::unique_ptr<ProfileSource> source;  // empty on a replay
   std::unique_ptr<tracker::SensorUnit> sensor;
+  VirtualProfileStream* head = nullptr;  // the virtual sensor inside `sensor` (null on a replay)
   tracker::MasterParams master;
 };
 SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&)>& record = {});
@@ -96,6 +120,11 @@ std::string sim_timeseries_csv(const SimRun& run);
 plot::Canvas sim_error_figure(const SimRun& run);
 // One seam's metrics as `vts sim --json` prints them.
 trackio::Json seam_metrics_json(const SeamMetrics& m, int index);
+// The run's summary as `vts sim --json` prints it (without out_dir): the
+// set-up, the robot, the times (wall_time_s: the whole command's, the
+// simulation's), `completed`, and per seam the metrics with the open
+// loop's beside them ("open_loop").
+trackio::Json sim_summary_json(const SimSpec& spec, const SimRun& run, double wall_time_s, double sim_wall_time_s);
 
 // Profiles spooled to a scratch file as they are taken (an EXR needs its row
 // count up front), then written as one EXR; the scratch file goes with it.

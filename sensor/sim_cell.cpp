@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -44,6 +45,18 @@ std::string bad(const char* field, double value, const char* why) {
   return s.str();
 }
 
+// The point of a seam's root at arc length s and its direction there.
+std::pair<Vec3, Vec3> seam_point(const SimSeamTruth& t, double s) {
+  if (t.path.size() < 2) return {t.start + s * t.direction(), t.direction()};
+  for (std::size_t i = 1; i < t.path.size(); ++i) {
+    const Vec3 ab = t.path[i] - t.path[i - 1];
+    const double l = ab.norm();
+    if (s <= l || i + 1 == t.path.size()) return {t.path[i - 1] + std::min(s, l) / l * ab, ab / l};
+    s -= l;
+  }
+  return {t.end, t.direction()};
+}
+
 Plate block(double x0, double x1, double y0, double y1, double z0, double z1) {
   return Plate{{{y0, z0}, {y1, z0}, {y1, z1}, {y0, z1}}, x0, x1};
 }
@@ -58,6 +71,13 @@ std::pair<Vec3, Vec3> root_line(const Vec3& n, const Vec3& p, const Vec3& c0, co
 }
 
 }  // namespace
+
+double SimSeamTruth::length() const {
+  if (path.size() < 2) return (end - start).norm();
+  double l = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) l += (path[i] - path[i - 1]).norm();
+  return l;
+}
 
 Vec3 SimSeamTruth::lateral() const {
   Vec3 l = plate_normal.cross(direction()).normalized();
@@ -81,6 +101,18 @@ std::string validate(const SimCellParams& p) {
     return bad("seam1_short_mm", p.seam1_short_mm, "must be between 0 and 0.8 box_side_mm");
   if (!std::isfinite(p.seam1_gap_rise_mm) || p.seam1_gap_rise_mm < 0.0 || p.seam1_gap_rise_mm > 5.0)
     return bad("seam1_gap_rise_mm", p.seam1_gap_rise_mm, "must be between 0 and 5 mm");
+  if (!std::isfinite(p.seam1_bow_mm) || p.seam1_bow_mm < 0.0 || p.seam1_bow_mm > 0.2 * p.box_side_mm)
+    return bad("seam1_bow_mm", p.seam1_bow_mm, "must be between 0 and 0.2 box_side_mm");
+  if (p.seam1_bow_mm > 0.0 && 0.5 * p.plate_side_mm - 0.5 * p.box_side_mm < p.seam1_bow_mm + 20.0)
+    return bad("seam1_bow_mm", p.seam1_bow_mm, "must leave 20 mm of plate outside the box");
+  if (!std::isfinite(p.tack_spacing_mm) || (p.tack_spacing_mm != 0.0 && p.tack_spacing_mm < 10.0))
+    return bad("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
+  if (!std::isfinite(p.tack_first_mm) || p.tack_first_mm < 0.0)
+    return bad("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
+  if (!std::isfinite(p.tack_length_mm) || p.tack_length_mm <= 0.0 || p.tack_length_mm > 50.0)
+    return bad("tack_length_mm", p.tack_length_mm, "must be between 0 (exclusive) and 50 mm");
+  if (!std::isfinite(p.tack_leg_mm) || p.tack_leg_mm <= 0.0 || p.tack_leg_mm > 15.0)
+    return bad("tack_leg_mm", p.tack_leg_mm, "must be between 0 (exclusive) and 15 mm");
   return {};
 }
 
@@ -121,7 +153,36 @@ SimCell build_sim_cell(const SimCellParams& p) {
 
   const double ph = 0.5 * p.plate_side_mm;
   cell.mesh = plate_mesh(block(-ph, ph, -ph, ph, -p.plate_thickness_mm, 0.0), 10.0, actual);
-  cell.mesh.append(plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
+  // The bowed wall's footprint (box frame, z = 0): from (-h, -h) to (x1, -h)
+  // along a circular arc bulging to -y by the bow at the middle.
+  std::vector<Vec2> bowed;
+  if (p.seam1_bow_mm > 0.0) {
+    const double b = p.seam1_bow_mm, c = 0.5 * (x1 + h), xm = 0.5 * (x1 - h);
+    const double r = (c * c + b * b) / (2.0 * b);
+    const double yc = -h - b + r;
+    const int n = std::max(2, static_cast<int>(std::ceil(2.0 * c / 0.5)));
+    for (int i = 0; i <= n; ++i) {
+      const double x = -h + 2.0 * c * i / n;
+      bowed.emplace_back(x, i == 0 || i == n ? -h : yc - std::sqrt(r * r - (x - xm) * (x - xm)));
+    }
+  }
+  if (bowed.empty()) {
+    cell.mesh.append(plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
+  } else {
+    // The box as its footprint extruded up: a section in (x, y) of the box
+    // frame, counter-clockwise seen from above; its x is the box's z.
+    Plate box;
+    box.section_yz = bowed;
+    box.section_yz.emplace_back(x1, h);
+    box.section_yz.emplace_back(-h, h);
+    box.x0_mm = 0.0;
+    box.x1_mm = p.box_height_mm;
+    Pose box_from_section = Pose::Identity();
+    box_from_section.linear().col(0) = Vec3::UnitZ();
+    box_from_section.linear().col(1) = Vec3::UnitX();
+    box_from_section.linear().col(2) = Vec3::UnitY();
+    cell.mesh.append(plate_mesh(box, 10.0, actual * plate_from_box * box_from_section));
+  }
 
   const Eigen::Matrix3d rb = plate_from_box.linear();
   auto truth = [&](const Vec3& face_n, const Vec3& c0, const Vec3& c1) {
@@ -137,6 +198,58 @@ SimCell build_sim_cell(const SimCellParams& p) {
   };
   cell.truth = {truth(-Vec3::UnitY(), Vec3(-h, -h, 0.0), Vec3(x1, -h, 0.0)),
                 truth(Vec3::UnitX(), Vec3(x1, -h, 0.0), Vec3(x1, h, 0.0))};
+  if (!bowed.empty()) {
+    // Each footprint point's wall line (vertical in the box) meets the
+    // plate top at the root.
+    SimSeamTruth& t = cell.truth[0];
+    const Vec3 up = rb * Vec3::UnitZ();
+    for (const Vec2& f : bowed) {
+      const Vec3 a = plate_from_box * Vec3(f.x(), f.y(), 0.0);
+      t.path.push_back(actual * Vec3(a - (a.z() / up.z()) * up));
+    }
+    t.start = t.path.front();
+    t.end = t.path.back();
+  }
+  if (p.tack_spacing_mm > 0.0) {
+    // A tack's section in the seam's frame: u across (towards the open
+    // side), v up the plate normal; legs on the plate and up the wall, the
+    // face bulging out.
+    const double leg = p.tack_leg_mm;
+    std::vector<Vec2> uv{{0.0, 0.0}, {leg, 0.0}};
+    for (int i = 1; i < 8; ++i) {
+      const double f = i / 8.0;
+      const double bulge = 0.3 * leg * 4.0 * f * (1.0 - f);
+      // Along the chord from (leg, 0) to (0, leg), out along (1, 1)/sqrt 2.
+      uv.emplace_back(leg * (1.0 - f) + bulge * std::sqrt(0.5), leg * f + bulge * std::sqrt(0.5));
+    }
+    uv.emplace_back(0.0, leg);
+    for (int k = 0; k < static_cast<int>(cell.truth.size()); ++k) {
+      const SimSeamTruth& t = cell.truth[static_cast<std::size_t>(k)];
+      const double len = t.length();
+      for (double s0 = p.tack_first_mm; s0 + p.tack_length_mm <= len - p.tack_first_mm + 1e-9;
+           s0 += p.tack_spacing_mm) {
+        const double sm = s0 + 0.5 * p.tack_length_mm;
+        const auto [root, dir] = seam_point(t, sm);
+        Vec3 lat = t.plate_normal.cross(dir).normalized();
+        if (lat.dot(t.lateral()) < 0.0) lat = -lat;
+        // Frame: x along the seam, y = lat, z = x cross y (+- the plate normal).
+        const double sgn = dir.cross(lat).dot(t.plate_normal) < 0.0 ? -1.0 : 1.0;
+        Plate tack;
+        for (const Vec2& q : uv) tack.section_yz.emplace_back(q.x(), sgn * q.y());
+        if (sgn < 0.0) std::reverse(tack.section_yz.begin(), tack.section_yz.end());
+        tack.x0_mm = -0.5 * p.tack_length_mm;
+        tack.x1_mm = 0.5 * p.tack_length_mm;
+        Pose world_from_tack = Pose::Identity();
+        world_from_tack.linear().col(0) = dir;
+        world_from_tack.linear().col(1) = lat;
+        world_from_tack.linear().col(2) = dir.cross(lat);
+        // A little into the plate and the wall, so the bead joins both.
+        world_from_tack.translation() = root - 0.05 * lat - 0.05 * t.plate_normal;
+        cell.mesh.append(plate_mesh(tack, 10.0, world_from_tack));
+        cell.tacks.push_back({k, s0, s0 + p.tack_length_mm});
+      }
+    }
+  }
 
   cell.tool_from_laser = Pose::Identity();
   cell.tool_from_laser.translation() = Vec3(p.lookahead_mm, 0.0, -p.standoff_mm);
@@ -172,6 +285,25 @@ tracker::MasterParams sim_master_params(const SimCell& cell, double speed_mm_s, 
 }
 
 PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp) {
+  if (seam.path.size() >= 2) {
+    // The nearest point of the polyline; lateral across its local direction.
+    double best = std::numeric_limits<double>::infinity();
+    PointError e;
+    for (std::size_t i = 1; i < seam.path.size(); ++i) {
+      const Vec3 a = seam.path[i - 1], ab = seam.path[i] - a;
+      const double f = std::clamp((tcp - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      const Vec3 q = a + f * ab;
+      const double dist = (tcp - q).squaredNorm();
+      if (dist >= best) continue;
+      best = dist;
+      Vec3 lat = seam.plate_normal.cross(ab).normalized();
+      if (lat.dot(seam.lateral()) < 0.0) lat = -lat;
+      e.true_point = q;
+      e.lateral_mm = (tcp - q).dot(lat);
+      e.vertical_mm = (tcp - q).dot(seam.plate_normal);
+    }
+    return e;
+  }
   const Vec3 d = seam.direction();
   const double s = std::clamp((tcp - seam.start).dot(d), 0.0, seam.length());
   PointError e;
@@ -182,7 +314,14 @@ PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp) {
   return e;
 }
 
-std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result) {
+std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result,
+                                  const std::vector<Pose>* actual) {
+  const auto& samples = result.samples;
+  // The weld path's centre at sample i: where the TCP was, less the weave.
+  auto centre = [&](std::size_t i) -> Vec3 {
+    const Vec3 p = actual && i < actual->size() ? (*actual)[i].translation() : samples[i].world_from_tool.translation();
+    return p - samples[i].weave_mm;
+  };
   std::vector<SeamMetrics> out;
   for (std::size_t k = 0; k < result.seams.size() && k < cell.truth.size(); ++k) {
     const tracker::SeamRun& run = result.seams[k];
@@ -198,9 +337,13 @@ std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResu
     m.rejected_points = run.rejected_points;
     m.refits = run.refits;
     double sl = 0.0, sv = 0.0;
-    for (const auto& smp : result.samples) {
+    std::size_t first_weld = samples.size(), last_weld = samples.size();
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const auto& smp = samples[i];
       if (smp.seam != static_cast<int>(k) || smp.phase != tracker::Phase::Weld) continue;
-      const Vec3 tcp = smp.world_from_tool.translation();
+      if (first_weld == samples.size()) first_weld = i;
+      last_weld = i;
+      const Vec3 tcp = centre(i);
       const PointError e = seam_error(truth, tcp);
       sl += e.lateral_mm * e.lateral_mm;
       sv += e.vertical_mm * e.vertical_mm;
@@ -218,10 +361,19 @@ std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResu
       m.rms_lateral_mm = std::sqrt(sl / m.samples);
       m.rms_vertical_mm = std::sqrt(sv / m.samples);
     }
-    m.start_error_mm = m.welded ? (run.weld_start - truth.start).norm() : 0.0;
-    m.end_error_mm = m.welded ? (run.weld_end - truth.end).norm() : 0.0;
-    m.start_along_mm = m.welded ? (run.weld_start - truth.start).dot(truth.direction()) : 0.0;
-    m.end_along_mm = m.welded ? (run.weld_end - truth.end).dot(truth.direction()) : 0.0;
+    // Where welding began (the cycle before the first weld sample) and ended.
+    Vec3 weld_start = run.weld_start, weld_end = run.weld_end;
+    if (actual && m.welded && first_weld > 0) {
+      weld_start = centre(first_weld - 1);
+      weld_end = centre(last_weld);
+    }
+    const Vec3 d0 = truth.path.size() >= 2 ? Vec3((truth.path[1] - truth.path[0]).normalized()) : truth.direction();
+    const std::size_t np = truth.path.size();
+    const Vec3 d1 = np >= 2 ? Vec3((truth.path[np - 1] - truth.path[np - 2]).normalized()) : truth.direction();
+    m.start_error_mm = m.welded ? (weld_start - truth.start).norm() : 0.0;
+    m.end_error_mm = m.welded ? (weld_end - truth.end).norm() : 0.0;
+    m.start_along_mm = m.welded ? (weld_start - truth.start).dot(d0) : 0.0;
+    m.end_along_mm = m.welded ? (weld_end - truth.end).dot(d1) : 0.0;
     out.push_back(m);
   }
   return out;

@@ -39,6 +39,18 @@ struct SimCellParams {
   // the box is tilted about its bottom edge at x = -side/2 so that the gap
   // under seam 1's wall grows linearly from 0 to this at the seam's end.
   double seam1_gap_rise_mm = 0.0;
+  // the box's seam-1 wall bows out of the box (towards -y) along a circular
+  // arc through its ends, this far at the middle: a curved seam 1;
+  double seam1_bow_mm = 0.0;
+  // tack welds on both seams: a bead in the fillet's corner (legs
+  // tack_leg_mm on the plate and up the wall, its face bulging 0.3 leg out
+  // of the straight line between them) tack_length_mm long, the first
+  // tack_first_mm from each seam's start and then every tack_spacing_mm
+  // (0: none) up to tack_first_mm before its end.
+  double tack_spacing_mm = 0.0;
+  double tack_first_mm = 20.0;
+  double tack_length_mm = 3.0;
+  double tack_leg_mm = 3.0;
   // Sensor mount: the laser plane lookahead_mm ahead of the TCP, the laser
   // origin standoff_mm back along the torch axis (= the optical axis).
   double lookahead_mm = 50.0;
@@ -54,10 +66,18 @@ struct SimSeamTruth {
   Vec3 end = Vec3::Zero();
   Vec3 plate_normal = Vec3::UnitZ();  // unit, out of the plate
   Vec3 wall_normal = -Vec3::UnitY();  // unit, the wall's open-side face, out of the box
+  // A curved seam: the root line as a polyline from start to end (points
+  // 0.5 mm apart or closer); empty: the straight line.
+  std::vector<Vec3> path;
   Vec3 direction() const { return (end - start).normalized(); }
-  double length() const { return (end - start).norm(); }
-  // Across the seam in the plate, towards the open side (unit).
+  double length() const;  // along the path
+  // Across the seam in the plate, towards the open side (unit), of the chord.
   Vec3 lateral() const;
+};
+// Tack welds' spans along a seam, as arc length from its start (mm).
+struct TackSpan {
+  int seam = 0;
+  double s0_mm = 0.0, s1_mm = 0.0;
 };
 
 struct SimCell {
@@ -66,6 +86,7 @@ struct SimCell {
   Pose actual_world_from_workpiece = Pose::Identity();
   std::vector<tracker::SeamPlan> plan;  // the master's model, workpiece frame
   std::vector<SimSeamTruth> truth;      // the actual seams, world
+  std::vector<TackSpan> tacks;
   Mesh mesh;                            // the actual workpiece, world
   Pose tool_from_laser = Pose::Identity();
 };
@@ -107,13 +128,18 @@ struct SeamMetrics {
 };
 
 // TCP error against a seam: lateral, vertical (mm), and the nearest point of
-// the true seam line.
+// the true seam line (or path: lateral then across the path's local
+// direction, on the open side).
 struct PointError {
   double lateral_mm = 0.0, vertical_mm = 0.0;
   Vec3 true_point = Vec3::Zero();
 };
 PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp);
 
-std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result);
+// The metrics of a master's run. `actual`: where the TCP really was at each
+// sample (a robot's; RobotSensor::actual()), else the samples' commanded
+// poses; either less the weave's offset (the weld path's centre).
+std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result,
+                                  const std::vector<Pose>* actual = nullptr);
 
 }  // namespace vts

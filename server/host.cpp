@@ -4,18 +4,14 @@
 #include <stdexcept>
 
 #include "common/version.h"
-#include "robot/arm_robot.h"
 #include "pipeline/profile_truth.h"
+#include "robot/robots.h"
 #include "sensor/sim_cell.h"
 
 namespace vts::server {
 namespace {
 
 namespace tk = vts::tracker;
-
-constexpr double kTorchMm = 400.0;  // flange to TCP along the flange's z
-constexpr double kBaseAcrossMm = 1100.0;  // the arm's base from the TCP's start, across its travel
-constexpr double kBaseBelowMm = 300.0;    // and below it
 
 Json maybe(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
@@ -26,29 +22,6 @@ Json event_json(tk::Event e, double time_s) {
   j["event"] = std::string(tk::to_string(e));
   j["time_s"] = time_s;
   return j;
-}
-
-// The robot of HostOptions::robot with its TCP at `home`: a perfect one, or
-// an arm whose base stands where it reaches the cell (docs/ROBOT.md).
-std::unique_ptr<robot::Robot> make_robot(const HostOptions& o, const Pose3& home) {
-  if (o.robot == "perfect") return std::make_unique<robot::PerfectRobot>(home);
-  const auto model = robot::arm_preset(o.robot);
-  if (!model) throw std::invalid_argument("robot = '" + o.robot + "': expected perfect, irb2400 or kr16");
-  robot::ArmSetup s;
-  s.nominal = *model;
-  s.accuracy_seed = o.robot_seed;
-  s.flange_from_tool.translation() = Eigen::Vector3d(0.0, 0.0, kTorchMm);
-  // The base kBaseAcrossMm from the TCP's start across its travel direction,
-  // kBaseBelowMm below it, facing it: the cell in the middle of the arm's reach.
-  Eigen::Vector3d x = home.linear().col(0);
-  x.z() = 0.0;
-  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitX();
-  x.normalize();
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(x);
-  const Eigen::Vector3d base = home.translation() - kBaseAcrossMm * across - Eigen::Vector3d(0.0, 0.0, kBaseBelowMm);
-  s.world_from_base.linear() << across, Eigen::Vector3d::UnitZ().cross(across), Eigen::Vector3d::UnitZ();
-  s.world_from_base.translation() = base;
-  return std::make_unique<robot::ArmRobot>(s, home);
 }
 
 Json unknown_command(const Request& r) {
@@ -80,7 +53,7 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
     home.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
   }
-  robot_ = make_robot(options, home);
+  robot_ = robot::make_robot(options.robot, options.robot_seed, home);
   arm_ = options.robot != "perfect";
   head_ = dynamic_cast<VirtualProfileStream*>(&sensor().stream());
   sensor().on_profile = [this](const tk::SensorProfile& p, const tk::TrackResult& r, const tk::JointData* j,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <Eigen/Eigenvalues>
@@ -18,6 +19,34 @@ std::string_view to_string(Phase p) {
     case Phase::Done: return "done";
   }
   return "?";
+}
+
+namespace {
+// A length in messages: to 0.1 mm.
+std::string mm_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+}  // namespace
+
+double weave_unit(const MasterParams::Weave& w, double t) {
+  if (w.amplitude_mm <= 0.0 || w.frequency_hz <= 0.0) return 0.0;
+  const double period = 1.0 / w.frequency_hz;
+  const double d = std::clamp(w.dwell_s, 0.0, 0.5 * period);
+  const double q = 0.25 * (period - 2.0 * d);  // a quarter of the moving time
+  double tau = std::fmod(t, period);
+  if (tau < 0.0) tau += period;
+  if (q <= 0.0) return tau < 0.5 * period ? 1.0 : -1.0;
+  if (tau < q) return tau / q;
+  tau -= q;
+  if (tau < d) return 1.0;
+  tau -= d;
+  if (tau < 2.0 * q) return 1.0 - tau / q;
+  tau -= 2.0 * q;
+  if (tau < d) return -1.0;
+  tau -= d;
+  return -1.0 + tau / q;
 }
 
 void SeamObject::reset(const Vec3& origin, const Vec3& direction_guess) {
@@ -175,21 +204,56 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
   Pose3 tool = Pose3::Identity();
   double now = 0.0;
 
+  // The weave, added to the tool's position while welding (weave_t: the
+  // weld's own clock).
+  double weave_t = 0.0;
   auto tick = [&](int seam, Phase phase, double s) {
     ++cycle;
     now = static_cast<double>(cycle) * dt;
-    std::vector<Event> events = sensor.advance(now, tool);
+    Pose3 commanded = tool;
+    Vec3 weave = Vec3::Zero();
+    if (phase == Phase::Weld && P.weave.amplitude_mm > 0.0) {
+      weave_t += dt;
+      weave = P.weave.amplitude_mm * weave_unit(P.weave, weave_t) * tool.linear().col(1);
+      commanded.translation() += weave;
+    }
+    std::vector<Event> events = sensor.advance(now, commanded);
     MasterSample smp;
     smp.time_s = now;
     smp.seam = seam;
     smp.phase = phase;
     smp.sensor = sensor.state();
-    smp.world_from_tool = tool;
+    smp.world_from_tool = commanded;
     smp.s_mm = s;
+    smp.weave_mm = weave;
     res.samples.push_back(smp);
     if (on_cycle) on_cycle(smp);
     return events;
   };
+  // To `target`: at once, or at the move speed and then settled.
+  auto move_to = [&](int seam, const Pose3& target) {
+    if (P.move_speed_mm_s <= 0.0) {
+      tool = target;
+      tick(seam, Phase::Move, 0.0);
+      return;
+    }
+    const Pose3 from = tool;
+    const Eigen::Quaterniond q0(from.linear()), q1(target.linear());
+    const double dist = (target.translation() - from.translation()).norm();
+    const double turn = q0.angularDistance(q1) * 180.0 / 3.14159265358979323846;
+    const double duration = std::max(dist / P.move_speed_mm_s, turn / MasterParams::kMaxTurnDegS);
+    const int n = std::max(1, static_cast<int>(std::ceil(duration / dt - 1e-9)));
+    for (int i = 1; i <= n; ++i) {
+      const double f = static_cast<double>(i) / n;
+      tool.translation() = from.translation() + f * (target.translation() - from.translation());
+      tool.linear() = q0.slerp(f, q1).toRotationMatrix();
+      tick(seam, Phase::Move, 0.0);
+    }
+    tool = target;
+    const int settle = static_cast<int>(std::ceil(P.settle_s / dt - 1e-9));
+    for (int i = 0; i < settle; ++i) tick(seam, Phase::Move, 0.0);
+  };
+  bool first_move = true;
 
   for (int k = 0; k < static_cast<int>(seams.size()); ++k) {
     res.world_from_workpiece.push_back(believed);
@@ -205,11 +269,39 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     const double margin =
         recalibrated ? P.search_margin_recalibrated_mm + 0.5 * step : P.search_margin_mm;
 
+    if (P.open_loop) {
+      // No sensor: weld the plan.
+      Pose3 start = Pose3::Identity();
+      start.linear() = tool_rotation(d_plan, np, nw);
+      start.translation() = s_plan;
+      if (first_move) tool = start;  // the robot starts there
+      first_move = false;
+      move_to(k, start);
+      run.weld_start = tool.translation();
+      weave_t = 0.0;
+      double s = 0.0;
+      while (s < length - 1e-9) {
+        s = std::min(s + step, length);
+        tool.translation() = s_plan + s * d_plan;
+        tick(k, Phase::Weld, s);
+      }
+      run.weld_end = tool.translation();
+      run.welded_mm = s;
+      run.start_found = run.end_found = true;
+      run.start_point = s_plan;
+      run.end_point = e_plan;
+      res.seams.push_back(run);
+      continue;
+    }
+
     // Move to the search pose: the laser plane `margin` before the planned start.
-    tool.linear() = tool_rotation(d_plan, np, nw);
+    Pose3 search = Pose3::Identity();
+    search.linear() = tool_rotation(d_plan, np, nw);
     Vec3 begin = s_plan - (margin + P.lookahead_mm) * d_plan;
-    tool.translation() = begin;
-    tick(k, Phase::Move, 0.0);
+    search.translation() = begin;
+    if (first_move) tool = search;  // the robot starts there
+    first_move = false;
+    move_to(k, search);
 
     auto finish = [&] {
       if (sensor.state() != SensorState::Idle) sensor.laser_off();
@@ -243,13 +335,14 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
         if (has(ev, Event::StartBehind)) {
           // The joint was there from the first profile: back off and search again.
           begin -= P.search_margin_mm * d_plan;
-          tool.translation() = begin;
-          tick(k, Phase::Move, 0.0);
+          Pose3 back = tool;
+          back.translation() = begin;
+          move_to(k, back);
           if (attempt == P.max_search_retries) run.failure = "the start point lies behind every search";
           break;
         }
         if (travelled > limit) {
-          run.failure = "no start point within " + std::to_string(limit) + " mm of search";
+          run.failure = "no start point within " + mm_text(limit) + " mm of search";
           break;
         }
       }
@@ -373,13 +466,14 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
 
     // Weld along the seam object.
     run.weld_start = tool.translation();
+    weave_t = 0.0;
     double s = 0.0;
     while (run.failure.empty()) {
       const double s_stop = stop_point ? obj.arc(*stop_point) : std::numeric_limits<double>::infinity();
       if (stop_point && s >= s_stop - 1e-9) break;
       const double s_next = std::min(s + step, s_stop);
       if (!stop_point && s_next > obj.max_arc()) {
-        run.failure = "the torch caught up with the sensor data at s = " + std::to_string(s) + " mm";
+        run.failure = "the torch caught up with the sensor data at s = " + mm_text(s) + " mm";
         break;
       }
       if (s > 2.0 * length + 50.0) {

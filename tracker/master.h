@@ -62,7 +62,30 @@ struct MasterParams {
   // started again from them (SeamRun::refits).
   int refit_after_rejections = 6;
   bool recalibrate = true;
+  // Moves between poses (to a search pose, backing off): 0 puts the tool
+  // there in one cycle, as a perfect robot can; > 0 travels in a straight
+  // line at this speed (the orientation turned by slerp, at most
+  // kMaxTurnDegS), one servo target per cycle, then waits settle_s for the
+  // robot to come to rest.
+  double move_speed_mm_s = 0.0;
+  double settle_s = 0.0;
+  static constexpr double kMaxTurnDegS = 90.0;
+  // Weaving while welding (amplitude 0: none), see Weave.
+  struct Weave {
+    double amplitude_mm = 0.0;  // the torch's lateral excursion either side of the seam
+    double frequency_hz = 1.0;
+    double dwell_s = 0.0;       // held at each side per period
+  } weave;
+  // The same program without the sensor: each seam welded along its plan
+  // (the believed workpiece pose) from the planned start to the planned end.
+  // The laser stays off; the sensor interface only keeps the clock.
+  bool open_loop = false;
 };
+
+// The weave's lateral offset, in units of the amplitude, t seconds into the
+// weld: 0 -> +1 over a quarter of the moving time, dwell, +1 -> -1 over half
+// of it, dwell, -1 -> 0; the moving time is 1/frequency - 2 dwell.
+double weave_unit(const MasterParams::Weave& weave, double t);
 
 enum class Phase { Move, Search, Approach, Weld, Done };
 std::string_view to_string(Phase phase);
@@ -75,6 +98,9 @@ struct MasterSample {
   SensorState sensor = SensorState::Idle;
   Pose3 world_from_tool = Pose3::Identity();
   double s_mm = 0.0;  // weld: the TCP's arc length along the seam object
+  // The weave's offset in world_from_tool (world, mm): the path's centre is
+  // world_from_tool.translation() - weave_mm.
+  Vec3 weave_mm = Vec3::Zero();
 };
 
 struct SeamRun {

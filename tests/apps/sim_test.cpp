@@ -112,6 +112,10 @@ TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][si
       {"--rotation -1", "--rotation = '-1'"},    {"--source gpu", "--source = 'gpu'"},
       {"--seed x1", "--seed = 'x1'"},            {"--sensor nope", "--sensor = 'nope'"},
       {"--material glass", "--material = 'glass'"}, {"--replay missing.exr", "--replay = 'missing.exr'"},
+      {"--robot ur5", "--robot = 'ur5'"},        {"--robot-seed 3", "--robot-seed = '3': only with an arm"},
+      {"--scenario nope", "no scenario 'nope' (built in: arm-accuracy,"},
+      {"--scenario weaving --seed 4", "--seed = '4': a scenario sets it"},
+      {"--scenario missing.yaml", "missing.yaml"},
   };
   for (const auto& [args, message] : cases) {
     const Result r = run_sim_cli(dir, std::string(args) + " --out-dir out");
@@ -121,6 +125,37 @@ TEST_CASE("vts sim: bad options name the option and value and exit 2", "[cli][si
   }
   // Nothing was created.
   CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST_CASE("vts sim: scenarios are listed, run by name with their verdict, and by file", "[cli][sim]") {
+  TempDir dir;
+  const Result list = run_sim_cli(dir, "--scenarios");
+  REQUIRE(list.code == 0);
+  CHECK(list.out.find("weaving") != std::string::npos);
+  CHECK(list.out.find("seam-ends-early        fail") != std::string::npos);
+
+  // A failing scenario whose failure is the expected one exits 0 and says why.
+  const Result r = run_sim_cli(dir, "--scenario seam-ends-early --json --out-dir out");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const Json j = Json::parse(r.out);
+  CHECK(j.at("verdict") == "fail");
+  CHECK(j.at("as_expected") == true);
+  CHECK(j.at("reason").get<std::string>().find("lost") != std::string::npos);
+  CHECK(j.at("robot") == "kr16");
+  CHECK(j.at("seams").at(0).at("open_loop").at("max_error_mm").get<double>() > 0.0);
+  CHECK(fs::exists(dir.path / "out" / "tracking_error.png"));
+
+  // The same file expecting a pass: exit 1.
+  std::ifstream in(std::string(VTS_SOURCE_DIR) + "/examples/scenarios/seam-ends-early.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml.replace(yaml.find("expect: fail"), 12, "expect: pass");
+  std::ofstream(dir.path / "mine.yaml") << yaml;
+  const Result mine = run_sim_cli(dir, "--scenario mine.yaml --out-dir mine");
+  CHECK(mine.code == 1);
+  CHECK(mine.out.find("verdict: fail") != std::string::npos);
 }
 
 TEST_CASE("vts sim: the default raster run meets the targets", "[cli][sim][gl]") {

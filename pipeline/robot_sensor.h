@@ -1,0 +1,63 @@
+#pragma once
+// A robot between the master and the sensor (issue 19, docs/SIM.md): the
+// master's tool pose of each cycle is the robot's servo target; the robot
+// moves (a perfect one exactly, an arm with its servo lag, correction
+// latency and absolute-accuracy errors); the sensor scans from where the
+// TCP really is and stamps its data with where the controller says it is,
+// as a real sensor's data are stamped. The master talks to this as to any
+// sensor interface and cannot tell.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "robot/perfect_robot.h"
+#include "sensor/virtual_sensor.h"
+#include "tracker/sensor_interface.h"
+
+namespace vts {
+
+class RobotSensor final : public tracker::SensorInterface {
+ public:
+  // `unit` may be null (a program without a sensor: the laser never comes
+  // on); `head` is the virtual sensor inside unit's stream (null on a
+  // replay). The robot (robot::make_robot) is made at the first advance(),
+  // with its TCP at the first commanded pose.
+  RobotSensor(tracker::SensorInterface* unit, VirtualProfileStream* head, std::string robot,
+              std::uint64_t robot_seed);
+
+  bool laser_on() override;
+  void laser_off() override;
+  void search_start() override;
+  void start_tracking() override;
+  void look_for_end() override;
+  void idle() override;
+  // Servo target `commanded`; the robot and then the sensor advance to t
+  // (through every break of the robot's motion). A robot fault ends the
+  // stream (Event::StreamEnded, error() "the robot stopped: ...").
+  std::vector<tracker::Event> advance(double t, const tracker::Pose3& commanded) override;
+  std::optional<tracker::JointData> latest_joint(double now_s) const override;
+  tracker::SensorState state() const override;
+  std::optional<Eigen::Vector3d> start_point() const override;
+  std::optional<Eigen::Vector3d> end_point() const override;
+  const tracker::SequenceCounters& counters() const override;
+  std::string error() const override;
+
+  // The TCP where it really was at the end of each advance() (world).
+  const std::vector<tracker::Pose3>& actual() const { return actual_; }
+  // Null before the first advance().
+  const robot::Robot* robot() const { return robot_.get(); }
+  const std::string& fault() const { return fault_; }
+
+ private:
+  tracker::SensorInterface* unit_;
+  VirtualProfileStream* head_;
+  std::string name_;
+  std::uint64_t seed_;
+  std::unique_ptr<robot::Robot> robot_;
+  std::vector<tracker::Pose3> actual_;
+  std::string fault_;
+  tracker::SequenceCounters none_;
+};
+
+}  // namespace vts

@@ -1,0 +1,207 @@
+// Issue 19's disturbances and scenarios (pipeline/scenario.h,
+// sensor/sim_cell.h, tracker/master.h): each disturbance's truth against
+// its formula worked out here, the weave against its definition, the open
+// loop's error against the distance between the planned and the true seam
+// lines, scenario files' errors, and every built-in scenario's verdict.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "pipeline/scenario.h"
+#include "pipeline/sim_run.h"
+#include "sensor/sim_cell.h"
+#include "tracker/master.h"
+
+using namespace vts;
+namespace tk = vts::tracker;
+
+namespace {
+
+// Distance of p across the line through a and b (the errors are measured
+// across the seam: lateral and vertical, not along it).
+double line_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = (b - a).normalized();
+  const Vec3 r = p - a;
+  return (r - r.dot(d) * d).norm();
+}
+
+}  // namespace
+
+TEST_CASE("weave: 0 -> +1 -> -1 -> 0 with dwells, by its definition", "[sim]") {
+  tk::MasterParams::Weave w;
+  w.amplitude_mm = 2.0;
+  w.frequency_hz = 1.0;
+  w.dwell_s = 0.1;
+  // Moving time 0.8 s: a quarter is 0.2 s.
+  CHECK(tk::weave_unit(w, 0.0) == Approx(0.0).margin(1e-12));
+  CHECK(tk::weave_unit(w, 0.1) == Approx(0.5));
+  CHECK(tk::weave_unit(w, 0.2) == Approx(1.0));
+  CHECK(tk::weave_unit(w, 0.25) == Approx(1.0));   // dwell 0.2 .. 0.3
+  CHECK(tk::weave_unit(w, 0.5) == Approx(0.0).margin(1e-12));   // 0.3 + 0.2
+  CHECK(tk::weave_unit(w, 0.7) == Approx(-1.0));
+  CHECK(tk::weave_unit(w, 0.75) == Approx(-1.0));  // dwell 0.7 .. 0.8
+  CHECK(tk::weave_unit(w, 0.9) == Approx(-0.5));
+  CHECK(tk::weave_unit(w, 1.2) == Approx(1.0));    // periodic
+  w.amplitude_mm = 0.0;
+  CHECK(tk::weave_unit(w, 0.2) == 0.0);
+}
+
+TEST_CASE("sim cell: a bowed seam 1 is a circular arc of the given sagitta through the box's corners", "[sim]") {
+  SimCellParams p;
+  p.offset_mm = 0.0;
+  p.rotation_deg = 0.0;
+  p.seam1_bow_mm = 6.0;
+  const SimCell cell = build_sim_cell(p);
+  const SimSeamTruth& t = cell.truth[0];
+  REQUIRE(t.path.size() > 100);
+  // Workpiece frame = world less the nominal pose (no displacement here).
+  const Pose wp = cell.actual_world_from_workpiece.inverse();
+  const Vec3 a = wp * t.path.front(), b = wp * t.path.back();
+  CHECK((a - Vec3(-75.0, -75.0, 0.0)).norm() < 1e-9);
+  CHECK((b - Vec3(75.0, -75.0, 0.0)).norm() < 1e-9);
+  // Circle through the ends with sagitta 6 mm: R = (75^2 + 6^2) / 12, centre (0, -75 - 6 + R).
+  const double r = (75.0 * 75.0 + 36.0) / 12.0;
+  const Vec3 c(0.0, -81.0 + r, 0.0);
+  double deepest = 0.0;
+  for (const Vec3& q : t.path) {
+    const Vec3 w = wp * q;
+    CHECK(std::abs(w.z()) < 1e-9);
+    CHECK((w - c).norm() == Approx(r).margin(1e-6));
+    deepest = std::max(deepest, -75.0 - w.y());
+  }
+  CHECK(deepest == Approx(6.0).margin(1e-3));
+  // The arc's length: 2 R asin(75 / R).
+  CHECK(t.length() == Approx(2.0 * r * std::asin(75.0 / r)).epsilon(1e-5));
+  // seam_error: a point 1 mm outside the arc's middle, 0.5 mm up, is 1 mm
+  // lateral (towards the open side, -y) and 0.5 mm vertical.
+  const Pose& w = cell.actual_world_from_workpiece;
+  const PointError e = seam_error(t, w * Vec3(0.0, -82.0, 0.5));
+  CHECK(e.lateral_mm == Approx(1.0).margin(1e-4));
+  CHECK(e.vertical_mm == Approx(0.5).margin(1e-9));
+}
+
+TEST_CASE("sim cell: tack welds where and as long as asked, as beads in the fillet's corner", "[sim]") {
+  SimCellParams p;
+  p.offset_mm = 0.0;
+  p.rotation_deg = 0.0;
+  p.tack_spacing_mm = 50.0;
+  p.tack_first_mm = 25.0;
+  p.tack_length_mm = 3.0;
+  p.tack_leg_mm = 3.0;
+  const SimCell plain = [] {
+    SimCellParams q;
+    q.offset_mm = 0.0;
+    q.rotation_deg = 0.0;
+    return build_sim_cell(q);
+  }();
+  const SimCell cell = build_sim_cell(p);
+  // 150 mm seams: tacks from 25 and 75 mm (one from 125 would end at 128,
+  // less than 25 mm before the end).
+  REQUIRE(cell.tacks.size() == 4);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 2; ++i) {
+      const TackSpan& s = cell.tacks[static_cast<std::size_t>(2 * k + i)];
+      CHECK(s.seam == k);
+      CHECK(s.s0_mm == Approx(25.0 + 50.0 * i));
+      CHECK(s.s1_mm == Approx(28.0 + 50.0 * i));
+    }
+  // Every vertex the tacks add lies within their spans along the seam and
+  // within the bead's section: legs of 3 mm, bulging 0.3 leg at most.
+  const std::size_t first = plain.mesh.vertices.size();
+  REQUIRE(cell.mesh.vertices.size() > first);
+  const Pose wp = cell.actual_world_from_workpiece.inverse();
+  for (std::size_t i = first; i < cell.mesh.vertices.size(); ++i) {
+    const Vec3 v = wp * cell.mesh.vertices[i].cast<double>();
+    const bool on1 = std::abs(v.y() + 75.0) < 4.5;  // seam 1 along y = -75 (open side -y)
+    const bool on2 = std::abs(v.x() - 75.0) < 4.5;  // seam 2 along x = 75 (open side +x)
+    REQUIRE((on1 || on2));
+    const double along = on1 ? v.x() + 75.0 : v.y() + 75.0;
+    const double out = on1 ? -75.0 - v.y() : v.x() - 75.0;
+    INFO("vertex " << v.transpose());
+    CHECK(v.z() >= -0.06);
+    CHECK(v.z() <= 3.0 + 1e-4);
+    CHECK(out <= 3.0 + 1e-4);
+    CHECK(out + v.z() <= 3.0 + 0.3 * 3.0 * std::sqrt(2.0) + 1e-3);  // the bulge
+    bool in_span = false;
+    for (double s0 : {25.0, 75.0}) in_span = in_span || (along >= s0 - 1e-4 && along <= s0 + 3.0 + 1e-4);
+    CHECK(in_span);
+  }
+}
+
+TEST_CASE("open loop: a perfect robot's error is the distance between the planned and the true seam lines", "[sim]") {
+  SimSpec spec;
+  spec.source = SourceKind::Reference;
+  spec.cell.seed = spec.seed = 3;
+  const SimRun run = run_sim(spec);
+  REQUIRE(run.completed());
+  REQUIRE(run.open_loop_metrics.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& plan = run.cell.plan[k];
+    const Vec3 a = run.cell.nominal_world_from_workpiece * plan.start_mm;
+    const Vec3 b = run.cell.nominal_world_from_workpiece * plan.end_mm;
+    const SimSeamTruth& t = run.cell.truth[k];
+    // Two straight lines: the largest distance is at an end of the weld,
+    // whose first sample is one step (speed / rate = 0.5 mm) past a.
+    const Vec3 a1 = a + 0.5 * (b - a).normalized();
+    const double expected = std::max(line_distance(a1, t.start, t.end), line_distance(b, t.start, t.end));
+    INFO("seam " << k + 1);
+    CHECK(run.open_loop_metrics[k].max_error_mm == Approx(expected).margin(1e-6));
+    CHECK(run.open_loop_metrics[k].start_error_mm == Approx((a - t.start).norm()).margin(1e-6));
+    CHECK(run.open_loop_metrics[k].end_error_mm == Approx((b - t.end).norm()).margin(1e-6));
+    CHECK(run.open_loop_metrics[k].max_error_mm > 2.0);
+    CHECK(run.metrics[k].max_error_mm < 0.1);
+  }
+}
+
+TEST_CASE("scenario files: bad values name the file, line and key", "[sim]") {
+  auto error_of = [](const std::string& text) {
+    try {
+      parse_scenario(text, "s.yaml");
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(error_of("robot: ur5\n") == "s.yaml:1: robot: robot = 'ur5': expected one of perfect, irb2400, kr16");
+  CHECK(error_of("seed: 1\nexpect: maybe\n") == "s.yaml:2: expect: expect = 'maybe': expected pass or fail");
+  CHECK(error_of("offset_mm: -1\n").find("s.yaml:1: offset_mm:") == 0);
+  CHECK(error_of("seam1_bow_mm: 100\n").find("seam1_bow_mm") != std::string::npos);
+  CHECK(error_of("colour: red\n").find("s.yaml:1: colour") == 0);
+  CHECK(error_of("weave_frequency_hz: 1\nweave_dwell_s: 0.5\n").find("s.yaml:2: weave_dwell_s") == 0);
+  CHECK(error_of("").find("empty scenario") != std::string::npos);
+  CHECK_THROWS_AS(builtin_scenario("no-such"), ScenarioError);
+  CHECK_THROWS_AS(load_scenario("/nonexistent/x.yaml"), ScenarioError);
+}
+
+TEST_CASE("every built-in scenario reaches the verdict its file expects, and the suite has what issue 19 asks",
+          "[sim]") {
+  const std::vector<std::string> names = scenario_names();
+  REQUIRE(names.size() >= 8);
+  int open_loop_beaten = 0, failing = 0;
+  for (const std::string& name : names) {
+    const Scenario sc = builtin_scenario(name);
+    // The file under examples/ is the one compiled in.
+    const Scenario from_file =
+        load_scenario(std::filesystem::path(VTS_SOURCE_DIR) / "examples" / "scenarios" / (name + ".yaml"));
+    CHECK(from_file.description == sc.description);
+    const SimRun run = run_sim(sc.spec);
+    const std::string reason = scenario_failure(run);
+    INFO(name << ": " << reason);
+    if (sc.expect_pass) {
+      CHECK(reason.empty());
+      bool beaten = !run.open_loop_metrics.empty();
+      for (std::size_t k = 0; k < run.metrics.size(); ++k)
+        beaten = beaten && run.open_loop_metrics[k].max_error_mm > 2.0 && run.metrics[k].rms_lateral_mm < 0.2 &&
+                 run.metrics[k].rms_vertical_mm < 0.2 && run.metrics[k].max_error_mm < 0.5;
+      open_loop_beaten += beaten;
+    } else {
+      CHECK_FALSE(reason.empty());
+      CHECK(reason.find(sc.expect_reason) != std::string::npos);
+      ++failing;
+    }
+  }
+  CHECK(open_loop_beaten >= 3);
+  CHECK(failing >= 1);
+}
