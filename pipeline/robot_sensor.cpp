@@ -50,8 +50,13 @@ std::vector<tk::Event> RobotSensor::advance(double t, const tk::Pose3& commanded
     if (fault_.empty() && !robot_->fault().empty()) fault_ = "the robot stopped: " + robot_->fault();
     if (!unit_) return;
     const tk::Pose3 reported = robot_->reported_tcp();
-    // (A perfect robot is where it reports itself, exactly.)
-    if (head_ && name_ != "perfect") head_->actual_from_reported = Pose(robot_->tcp() * reported.inverse());
+    // The sensor scans from where the arm really is (a perfect robot is
+    // where it reports itself, exactly); a moved part is scanned as the
+    // part unmoved from the sensor moved back.
+    if (head_ && part_motion)
+      head_->actual_from_reported = Pose(part_motion(robot_->tcp()).inverse() * robot_->tcp() * reported.inverse());
+    else if (head_ && name_ != "perfect")
+      head_->actual_from_reported = Pose(robot_->tcp() * reported.inverse());
     for (tk::Event e : unit_->advance(s, reported)) events.push_back(e);
   };
   for (double b : robot_->breaks_before(t)) run_to(b);

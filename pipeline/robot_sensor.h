@@ -7,6 +7,7 @@
 // as a real sensor's data are stamped. The master talks to this as to any
 // sensor interface and cannot tell.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,6 +43,11 @@ class RobotSensor final : public tracker::SensorInterface {
   std::optional<Eigen::Vector3d> end_point() const override;
   const tracker::SequenceCounters& counters() const override;
   std::string error() const override;
+
+  // The part's rigid motion (world) given where the TCP really is, e.g.
+  // thermal distortion (sensor/sim_cell.h SeamDistortion); the sensor scans
+  // the moved part. Empty: the part stays put.
+  std::function<Pose(const tracker::Pose3& tcp)> part_motion;
 
   // The TCP where it really was at the end of each advance() (world).
   const std::vector<tracker::Pose3>& actual() const { return actual_; }

@@ -39,6 +39,7 @@ constexpr NumberKey kCellKeys[] = {
     {"tack_first_mm", &SimCellParams::tack_first_mm},
     {"tack_length_mm", &SimCellParams::tack_length_mm},
     {"tack_leg_mm", &SimCellParams::tack_leg_mm},
+    {"distortion_deg_per_100mm", &SimCellParams::distortion_deg_per_100mm},
 };
 
 }  // namespace

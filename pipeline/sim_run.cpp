@@ -99,6 +99,12 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
   SimRun& run = rig.run;
   {
     RobotSensor loop(rig.sensor.get(), rig.head, spec.robot, spec.robot_seed);
+    SeamDistortion distortion(run.cell);
+    if (spec.cell.distortion_deg_per_100mm != 0.0)
+      loop.part_motion = [&](const Pose& tcp) {
+        distortion.update(tcp.translation());
+        return distortion.part_motion();
+      };
     run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
     run.actual_tcp = loop.actual();
     run.robot_fault = loop.fault();

@@ -107,6 +107,8 @@ std::string validate(const SimCellParams& p) {
     return bad("seam1_bow_mm", p.seam1_bow_mm, "must leave 20 mm of plate outside the box");
   if (!std::isfinite(p.tack_spacing_mm) || (p.tack_spacing_mm != 0.0 && p.tack_spacing_mm < 10.0))
     return bad("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
+  if (!std::isfinite(p.distortion_deg_per_100mm) || std::abs(p.distortion_deg_per_100mm) > 5.0)
+    return bad("distortion_deg_per_100mm", p.distortion_deg_per_100mm, "must be between -5 and 5 degrees");
   if (!std::isfinite(p.tack_first_mm) || p.tack_first_mm < 0.0)
     return bad("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
   if (!std::isfinite(p.tack_length_mm) || p.tack_length_mm <= 0.0 || p.tack_length_mm > 50.0)
@@ -251,9 +253,45 @@ SimCell build_sim_cell(const SimCellParams& p) {
     }
   }
 
+  if (p.distortion_deg_per_100mm != 0.0) {
+    // Seam 2 as the part lies once seam 1 is welded to its end.
+    SeamDistortion d(cell);
+    d.update(cell.truth[0].end + 1.0 * cell.truth[0].direction());
+    const Pose m = d.part_motion();
+    SimSeamTruth& t = cell.truth[1];
+    t.start = m * t.start;
+    t.end = m * t.end;
+    for (Vec3& q : t.path) q = m * q;
+    t.plate_normal = m.linear() * t.plate_normal;
+    t.wall_normal = m.linear() * t.wall_normal;
+  }
   cell.tool_from_laser = Pose::Identity();
   cell.tool_from_laser.translation() = Vec3(p.lookahead_mm, 0.0, -p.standoff_mm);
   return cell;
+}
+
+SeamDistortion::SeamDistortion(const SimCell& cell)
+    : cell_(&cell), rate_deg_per_mm_(cell.params.distortion_deg_per_100mm / 100.0) {}
+
+void SeamDistortion::update(const Vec3& tcp) {
+  const SimSeamTruth& t = cell_->truth[0];
+  const double u = std::clamp((tcp - t.start).dot(t.direction()), 0.0, (t.end - t.start).norm());
+  s_ = std::max(s_, u);
+}
+
+double SeamDistortion::angle_deg() const { return rate_deg_per_mm_ * s_; }
+
+Pose SeamDistortion::part_motion() const {
+  Pose m = Pose::Identity();
+  if (rate_deg_per_mm_ == 0.0 || s_ <= 0.0) return m;
+  const SimSeamTruth& t = cell_->truth[0];
+  const Vec3 n = t.plate_normal, d = t.direction();
+  // Positive: the seam ahead turns towards the open side.
+  const double sign = n.cross(d).dot(t.lateral()) >= 0.0 ? 1.0 : -1.0;
+  const Vec3 pivot = t.start + s_ * d;
+  m.linear() = Eigen::AngleAxisd(sign * angle_deg() * kDeg, n).toRotationMatrix();
+  m.translation() = pivot - m.linear() * pivot;
+  return m;
 }
 
 double sim_standoff_mm(const ScannerDesc& scanner) {

@@ -51,6 +51,10 @@ struct SimCellParams {
   double tack_first_mm = 20.0;
   double tack_length_mm = 3.0;
   double tack_leg_mm = 3.0;
+  // thermal distortion while seam 1 is welded (SeamDistortion): the part
+  // ahead of the arc turns about the plate normal through the arc's point
+  // by this much per 100 mm welded, its far end towards seam 1's open side.
+  double distortion_deg_per_100mm = 0.0;
   // Sensor mount: the laser plane lookahead_mm ahead of the TCP, the laser
   // origin standoff_mm back along the torch axis (= the optical axis).
   double lookahead_mm = 50.0;
@@ -91,8 +95,36 @@ struct SimCell {
   Pose tool_from_laser = Pose::Identity();
 };
 
-// Precondition: validate(params) is empty.
+// Precondition: validate(params) is empty. With distortion, seam 2's truth
+// is where the part has turned once seam 1 is welded to its end.
 SimCell build_sim_cell(const SimCellParams& params);
+
+// Thermal distortion (SimCellParams::distortion_deg_per_100mm): as seam 1 is
+// welded, the weld shrinks behind the arc and the part ahead of it turns.
+// Model: once the arc has welded seam 1 up to arc length s, the part is
+// turned by theta(s) = rate * s / 100 mm about the plate normal through the
+// seam's point at s (the arc pins the seam where it is): a point of the
+// seam at arc length u > s ahead moves across the seam by about
+// theta (u - s). The seam at the arc stays put, so a torch on the seam is
+// on its truth, but the sensor 50 mm ahead sees the seam displaced by
+// theta x 50 mm, where it will not be once the torch gets there. After
+// seam 1, seam 2 is turned by theta(L1) about seam 1's end (its start).
+class SeamDistortion {
+ public:
+  explicit SeamDistortion(const SimCell& cell);
+  // The TCP (the arc) is at `tcp`: the weld's progress along seam 1 is its
+  // projection onto the seam, never going back.
+  void update(const Vec3& tcp);
+  double welded_mm() const { return s_; }
+  double angle_deg() const;
+  // The part's rigid motion now (world): where its points have moved to.
+  Pose part_motion() const;
+
+ private:
+  const SimCell* cell_;
+  double rate_deg_per_mm_ = 0.0;
+  double s_ = 0.0;
+};
 
 // A standoff suiting the sensor: 100 mm (the paper's static setup B is 103 mm)
 // for sensors with a deep window, else the middle of its depth of field.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "pipeline/scenario.h"
 #include "pipeline/sim_run.h"
@@ -128,6 +129,46 @@ TEST_CASE("sim cell: tack welds where and as long as asked, as beads in the fill
     for (double s0 : {25.0, 75.0}) in_span = in_span || (along >= s0 - 1e-4 && along <= s0 + 3.0 + 1e-4);
     CHECK(in_span);
   }
+}
+
+TEST_CASE("sim cell: thermal distortion turns the part ahead of the arc about the arc's point", "[sim]") {
+  SimCellParams p;
+  p.offset_mm = 0.0;
+  p.rotation_deg = 0.0;
+  p.distortion_deg_per_100mm = 1.0;
+  const SimCell cell = build_sim_cell(p);
+  const SimSeamTruth& t = cell.truth[0];
+  const Vec3 d = t.direction(), lat = t.lateral(), n = t.plate_normal;
+  SeamDistortion dist(cell);
+  CHECK(dist.part_motion().isApprox(Pose::Identity()));
+  dist.update(t.start + 60.0 * d + 0.3 * n);  // the arc welding at s = 60 (the TCP a little above the root)
+  CHECK(dist.welded_mm() == Approx(60.0));
+  CHECK(dist.angle_deg() == Approx(0.6));
+  dist.update(t.start + 40.0 * d);  // never back
+  CHECK(dist.welded_mm() == Approx(60.0));
+  const Pose m = dist.part_motion();
+  // The seam at the arc stays; 50 mm ahead it moves 50 sin(0.6 deg) towards
+  // the open side and 50 (1 - cos) back along the seam.
+  const Vec3 at = t.start + 60.0 * d, ahead = t.start + 110.0 * d;
+  CHECK((m * at - at).norm() < 1e-9);
+  const Vec3 moved = m * ahead - ahead;
+  const double a = 0.6 * std::numbers::pi / 180.0;
+  CHECK(moved.dot(lat) == Approx(50.0 * std::sin(a)).epsilon(1e-9));
+  CHECK(moved.dot(d) == Approx(-50.0 * (1.0 - std::cos(a))).epsilon(1e-6));
+  CHECK(std::abs(moved.dot(n)) < 1e-9);
+  // Seam 2 as the part lies after seam 1: turned 1.5 degrees about its start.
+  const SimCell plain = [] {
+    SimCellParams q;
+    q.offset_mm = 0.0;
+    q.rotation_deg = 0.0;
+    return build_sim_cell(q);
+  }();
+  const SimSeamTruth& s2 = cell.truth[1];
+  const SimSeamTruth& s2_plain = plain.truth[1];
+  CHECK((s2.start - s2_plain.start).norm() < 1e-9);
+  const double turned = std::acos(std::clamp(s2.direction().dot(s2_plain.direction()), -1.0, 1.0));
+  CHECK(turned * 180.0 / std::numbers::pi == Approx(1.5).epsilon(1e-6));
+  CHECK((s2.end - s2_plain.end).norm() == Approx(2.0 * 150.0 * std::sin(0.75 * std::numbers::pi / 180.0)).epsilon(1e-6));
 }
 
 TEST_CASE("open loop: a perfect robot's error is the distance between the planned and the true seam lines", "[sim]") {
