@@ -59,6 +59,11 @@ int run(int argc, char** argv) {
                            "the master's poses on the viewer's clock, the keys only move the camera");
   sim->excludes(cell);
   sim->excludes(scene);
+  auto* scenario = cli.add_option("--scenario", o.scenario,
+                                  "With --sim: show this scenario's run (`vts sim --scenarios`, or a scenario file), "
+                                  "the robot arm drawn when it has one")
+                       ->type_name("NAME|FILE.yaml");
+  scenario->needs(sim);
   std::string source = "raster";
   cli.add_option("--source", source, "Profile source: raster (OSMesa emulator, default) or reference (Embree)")
       ->type_name("KIND");

@@ -63,6 +63,7 @@ std::vector<tk::Event> RobotSensor::advance(double t, const tk::Pose3& commanded
   run_to(t);
   if (!was_faulted && !fault_.empty()) events.push_back(tk::Event::StreamEnded);
   actual_.push_back(robot_->tcp());
+  if (const auto q = robot_->joints()) joints_.push_back(*q);
   return events;
 }
 

@@ -51,6 +51,8 @@ class RobotSensor final : public tracker::SensorInterface {
 
   // The TCP where it really was at the end of each advance() (world).
   const std::vector<tracker::Pose3>& actual() const { return actual_; }
+  // An arm's joints at the end of each advance() (empty for a perfect robot).
+  const std::vector<robot::Joints>& joints() const { return joints_; }
   // Null before the first advance().
   const robot::Robot* robot() const { return robot_.get(); }
   const std::string& fault() const { return fault_; }
@@ -62,6 +64,7 @@ class RobotSensor final : public tracker::SensorInterface {
   std::uint64_t seed_;
   std::unique_ptr<robot::Robot> robot_;
   std::vector<tracker::Pose3> actual_;
+  std::vector<robot::Joints> joints_;
   std::string fault_;
   tracker::SequenceCounters none_;
 };

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "pipeline/robot_sensor.h"
+#include "robot/arm_robot.h"
 #include "sensor/recorded_sensor.h"
 #include "sensor/virtual_sensor.h"
 
@@ -108,6 +109,10 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
     run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
     run.actual_tcp = loop.actual();
     run.robot_fault = loop.fault();
+    if (const auto* arm = dynamic_cast<const robot::ArmRobot*>(loop.robot())) {
+      run.arm = SimRun::ArmTrace{arm->as_built(), arm->setup().world_from_base, arm->setup().flange_from_tool,
+                                 loop.joints()};
+    }
   }
   run.metrics = evaluate(run.cell, run.result, &run.actual_tcp);
   run.profiles = rig.sensor->counters().profiles;

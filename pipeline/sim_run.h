@@ -15,6 +15,7 @@
 
 #include "pipeline/scan_session.h"
 #include "plot/plot.h"
+#include "robot/arm.h"
 #include "sensor/cell.h"
 #include "sensor/profile.h"
 #include "sensor/profile_exr.h"
@@ -62,6 +63,15 @@ struct SimRun {
   std::string robot;                 // its name
   std::string robot_fault;           // why the robot stopped; empty if it did not
   std::vector<Pose> actual_tcp;      // where the TCP really was at each of result.samples
+  // An arm: as built, where it stands, its torch, and its joints at each of
+  // result.samples (for drawing it); empty for a perfect robot.
+  struct ArmTrace {
+    robot::ArmModel as_built;
+    Pose world_from_base = Pose::Identity();
+    Pose flange_from_tool = Pose::Identity();
+    std::vector<robot::Joints> joints;
+  };
+  std::optional<ArmTrace> arm;
   // The same program open loop: its samples, the TCP, the metrics and a fault.
   tracker::MasterResult open_loop;
   std::vector<Pose> open_loop_tcp;

@@ -105,6 +105,17 @@ std::string validate(const ArmModel& m) {
 
 Pose3 forward(const ArmModel& m, const Joints& q) { return Pose3(chain(m, q, 6)); }
 
+std::array<Pose3, 7> frames(const ArmModel& m, const Joints& q) {
+  std::array<Pose3, 7> f;
+  Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
+  f[0] = Pose3(t);
+  for (int i = 0; i < 6; ++i) {
+    t = t * dh(m.axes[static_cast<std::size_t>(i)], q[i]);
+    f[static_cast<std::size_t>(i) + 1] = Pose3(t);
+  }
+  return f;
+}
+
 Eigen::Vector3d wrist_centre(const ArmModel& m, const Joints& q) { return chain(m, q, 4).block<3, 1>(0, 3); }
 
 namespace {

@@ -55,6 +55,9 @@ std::string validate(const ArmModel& model);
 
 // base -> flange.
 Pose3 forward(const ArmModel& model, const Joints& q);
+// Every axis's frame, base frame: frames[0] the base itself, frames[i] the
+// frame after axis i (frames[6] the flange), as the DH chain defines them.
+std::array<Pose3, 7> frames(const ArmModel& model, const Joints& q);
 // The wrist centre (where axes 4-6 meet), base frame.
 Eigen::Vector3d wrist_centre(const ArmModel& model, const Joints& q);
 

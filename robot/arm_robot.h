@@ -50,6 +50,7 @@ class ArmRobot final : public Robot {
   std::optional<Joints> joints() const override { return servo_.q(); }
 
   const Config& config() const { return config_; }
+  const ArmSetup& setup() const { return s_; }
   const ArmModel& as_built() const { return built_; }
   // Where the controller believes the TCP is (nominal model, the servo's joints).
   Pose3 reported_tcp() const override;

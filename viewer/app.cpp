@@ -188,6 +188,14 @@ void App::upload_meshes() {
   const Vec3 housing_back = tool_from_laser * Vec3(-10.0, 0.0, -40.0);
   const Vec3 on_torch(0.0, 0.0, std::min(-90.0, housing_back.z()));
   mesh_.bracket = renderer_.add_mesh(beam(f3(on_torch), f3(housing_back), 12.0f), false);
+  attachment_ids_.clear();
+  for (const Attachment& a : attachments_) attachment_ids_.push_back(renderer_.add_mesh(a.mesh, false));
+}
+
+void App::set_attachments(std::vector<Attachment> attachments, std::function<std::vector<Pose>(double)> poses) {
+  attachments_ = std::move(attachments);
+  attachment_poses_ = std::move(poses);
+  upload_meshes();
 }
 
 // From ahead of the sensor, to the side the torch leans to and above: the fan
@@ -420,6 +428,12 @@ void App::build_scene(SceneView& v, int width, int height) {
       {mesh_.camera, matrix_of(camera_pose), kCameraBody},
   };
 
+  if (attachment_poses_) {
+    const std::vector<Pose> poses = attachment_poses_(clock_.time_s);
+    for (std::size_t i = 0; i < poses.size() && i < attachment_ids_.size(); ++i)
+      v.meshes.push_back({attachment_ids_[i], matrix_of(poses[i]), attachments_[i].color});
+  }
+
   v.lines.clear();
   const auto line = [&](const Vec3& a, const Vec3& b, Rgba c) {
     v.lines.push_back({f3(a), c});
@@ -440,6 +454,8 @@ void App::build_scene(SceneView& v, int width, int height) {
   // The analytic seams (a mesh workpiece has none).
   for (const auto& w : cell_.workpieces)
     if (!w.is_mesh()) line(w.seam_origin(), w.seam_origin() + w.params.length_mm * w.seam_direction(), kSeam);
+  for (const auto& path : seam_paths)
+    for (std::size_t i = 1; i < path.size(); ++i) line(path[i - 1], path[i], kSeam);
 
   // Tool frame axes at the TCP.
   const Vec3 tcp = world_from_torch_.translation();

@@ -59,6 +59,17 @@ class App {
   // simulated time (vts-view --sim), or empty to stay. Cleared when another
   // built-in cell is loaded.
   std::function<std::optional<Pose>(double time_s)> drive_torch;
+  // Extra solids drawn with the cell (vts-view --sim: the robot arm's
+  // links), uploaded now and with every reload, and their world poses at a
+  // simulated time (one per attachment; empty: not drawn).
+  struct Attachment {
+    Mesh mesh;
+    Rgba color;
+  };
+  void set_attachments(std::vector<Attachment> attachments,
+                       std::function<std::vector<Pose>(double time_s)> poses);
+  // Seam lines beyond the workpieces' straight ones (a curved seam's truth), world.
+  std::vector<std::vector<Vec3>> seam_paths;
   // A non-motion key press (see key_table()).
   void press(Key key);
   bool quit_requested() const { return quit_; }
@@ -174,6 +185,9 @@ class App {
   struct Meshes {
     int workpieces = -1, nozzle = -1, body = -1, bracket = -1, housing = -1, camera = -1;
   } mesh_;
+  std::vector<Attachment> attachments_;
+  std::vector<int> attachment_ids_;
+  std::function<std::vector<Pose>(double)> attachment_poses_;
   Vec2 tcp_px_ = Vec2::Zero(), nozzle_px_ = Vec2::Zero();
 };
 

@@ -203,9 +203,9 @@ int run_window(WindowOptions o) {
   SimView sim_view;
   try {
     if (o.sim) {
-      sim_view = run_sim_for_view(o.app.seed, o.sensor, o.material, o.ideal);
+      sim_view = run_sim_for_view(o.app.seed, o.sensor, o.material, o.ideal, o.scenario);
       o.app.given_cell = sim_view.cell;
-      o.app.given_label = "sim-box";
+      o.app.given_label = sim_view.label;
     }
     app = std::make_unique<App>(o.app, renderer);
   } catch (const std::runtime_error& e) {
@@ -221,12 +221,28 @@ int run_window(WindowOptions o) {
   app->sync_scans = scripted && !o.fps;
   if (o.sim) {
     app->drive_torch = [&sim_view](double t) -> std::optional<vts::Pose> {
-      const auto& s = sim_view.samples;
-      if (s.empty()) return std::nullopt;
-      // Sample k is the master's cycle k + 1, at time (k + 1) dt.
-      const long k = std::clamp(std::lround(t / sim_view.dt_s) - 1, 0L, static_cast<long>(s.size()) - 1);
-      return s[static_cast<std::size_t>(k)].world_from_tool;
+      if (sim_view.samples.empty()) return std::nullopt;
+      const std::size_t k = sample_at(sim_view, t);
+      // Where the TCP really was (an arm's, not the master's command).
+      return k < sim_view.tcp.size() ? sim_view.tcp[k] : sim_view.samples[k].world_from_tool;
     };
+    app->seam_paths = sim_view.seam_paths;
+    if (!sim_view.arm_links.empty()) {
+      app->set_attachments(sim_view.arm_links, [&sim_view](double t) {
+        const std::size_t k = sample_at(sim_view, t);
+        return k < sim_view.arm_poses.size() ? sim_view.arm_poses[k] : std::vector<vts::Pose>{};
+      });
+      // Far enough to see the arm and the cell: from the side of the line
+      // from the base to the work, above.
+      if (!sim_view.arm_poses.empty() && !sim_view.tcp.empty()) {
+        const vts::Vec3 base = sim_view.arm_poses.front().front().translation();
+        const vts::Vec3 work = sim_view.tcp.front().translation();
+        vts::Vec3 across = vts::Vec3::UnitZ().cross(work - base);
+        across.z() = 0.0;
+        app->camera() = camera_looking_at(0.5 * (base + work) + vts::Vec3(0.0, 0.0, 500.0),
+                                          across.normalized() + 0.5 * vts::Vec3::UnitZ(), 4200.0);
+      }
+    }
     app->set_status(sim_view.summary);
   }
 
@@ -317,10 +333,7 @@ int run_window(WindowOptions o) {
         std::printf("vts-view: %s\n", last_status.c_str());
     }
     if (o.sim && !sim_view.samples.empty() && !app->recording()) {
-      const auto& s = sim_view.samples;
-      const long k = std::clamp(std::lround(app->sim_time_s() / sim_view.dt_s) - 1, 0L,
-                                static_cast<long>(s.size()) - 1);
-      const auto& smp = s[static_cast<std::size_t>(k)];
+      const auto& smp = sim_view.samples[sample_at(sim_view, app->sim_time_s())];
       const std::string where = smp.seam < 0 ? std::string("done")
                                              : "seam " + std::to_string(smp.seam + 1) + ", " +
                                                    std::string(vts::tracker::to_string(smp.phase)) + ", sensor " +

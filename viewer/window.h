@@ -22,6 +22,7 @@ struct WindowOptions {
   std::string sensor, material;    // presets; empty: the cell's
   bool ideal = false;              // start with the error model off
   bool sim = false;                // show the run of `vts sim` (docs/SIM.md)
+  std::string scenario;            // with sim: this scenario's run (a name or a file)
 };
 
 // Opens the window and runs the viewer. Returns the exit code: 0, 1 for a
