@@ -1,5 +1,6 @@
 #include "robot/arm_robot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -35,6 +36,7 @@ ArmRobot::ArmRobot(const ArmSetup& setup, const Pose3& tcp_start)
       path_(tcp_start),
       servo_(built_, setup.servo, start_joints(setup, tcp_start, config_)) {
   q_cmd_ = servo_.q();
+  ramp_pose_ = tcp_start;
 }
 
 Pose3 ArmRobot::tcp() const { return s_.world_from_base * forward(built_, servo_.q()) * s_.flange_from_tool; }
@@ -44,7 +46,13 @@ Pose3 ArmRobot::reported_tcp() const {
 }
 
 void ArmRobot::servo(const Pose3& target) {
-  if (fault_.empty()) path_.servo(target);
+  if (!fault_.empty()) return;
+  const double since = last_servo_call_ >= 0.0 ? time_s_ - last_servo_call_ : 0.0;
+  ramp_span_ = since > 0.0 ? since : s_.servo.cycle_s;
+  last_servo_call_ = time_s_;
+  ramp_t0_ = time_s_;
+  ramp_from_ = path_.servo_pending() ? ramp_pose_ : path_.commanded();
+  path_.servo(target);
 }
 
 bool ArmRobot::move(const Pose3& target, double speed_mm_s, bool queue) {
@@ -62,23 +70,20 @@ bool ArmRobot::advance(double t) {
   if (t <= time_s_) return false;
   const double dt = s_.servo.cycle_s;
   bool done = false;
-  // A servo target spans the whole advance: the path reaches it at t; each
-  // cycle samples the straight line to it.
-  const Pose3 from = path_.commanded();
-  const bool servoing = path_.servo_pending();
-  const double t0 = time_s_;
   while (static_cast<double>(cycle_ + 1) * dt <= t + 1e-12) {
     ++cycle_;
     const double tc = static_cast<double>(cycle_) * dt;
     Pose3 cmd;
-    if (servoing) {
-      const double f = std::min(1.0, (tc - t0) / (t - t0));
-      cmd = interpolate(from, path_.servo_target(), f);
-      if (f >= 1.0) path_.advance(tc);
+    if (path_.servo_pending()) {
+      // Each cycle samples the straight line to the target (servo()).
+      const double f = std::clamp((tc - ramp_t0_) / ramp_span_, 0.0, 1.0);
+      cmd = interpolate(ramp_from_, path_.servo_target(), f);
+      if (f >= 1.0 - 1e-12) path_.advance(tc);  // reached: the path's pose
     } else {
       done = path_.advance(tc) || done;
       cmd = path_.commanded();
     }
+    ramp_pose_ = cmd;
     corrections_.push_back(path_.correction_mm());
     while (static_cast<int>(corrections_.size()) > s_.correction_delay_cycles + 1) corrections_.pop_front();
     cmd.translation() += corrections_.front();
@@ -93,7 +98,6 @@ bool ArmRobot::advance(double t) {
     }
     servo_.step(q_cmd_);  // after a fault: hold the last command, the arm settles there
   }
-  if (path_.servo_pending()) path_.advance(t);
   time_s_ = t;
   return done;
 }

@@ -61,6 +61,14 @@ class ArmRobot final : public Robot {
   Config config_;
   PerfectRobot path_;  // the commanded path, without the correction
   JointServo servo_;
+  // A servo target is reached in a straight line over the interval between
+  // the last two servo() calls (a controller's external-guidance
+  // interpolator: a target streamed every 50 ms is a ramp of 50 ms, not a
+  // step), however the caller slices its advance() calls.
+  Pose3 ramp_from_ = Pose3::Identity();  // the commanded pose when the target came
+  Pose3 ramp_pose_ = Pose3::Identity();  // the commanded pose at the last cycle
+  double ramp_t0_ = 0.0, ramp_span_ = 0.0;
+  double last_servo_call_ = -1.0;
   std::deque<Eigen::Vector3d> corrections_;  // the delay line, one per cycle
   Joints q_cmd_;
   double time_s_ = 0.0;
