@@ -187,7 +187,7 @@ plot::Canvas sim_error_figure(const SimRun& run) {
   const tk::MasterResult& result = run.result;
   const std::vector<SeamMetrics>& metrics = run.metrics;
   const int n = static_cast<int>(cell.truth.size());
-  plot::Canvas canvas(1100, 360 * n + 40);
+  plot::Canvas canvas(1100, 360 * n + 50);
   for (int k = 0; k < n; ++k) {
     std::vector<double> s, lat, ver;
     auto collect = [&](const tk::MasterResult& r, const std::vector<Pose>& actual, std::vector<double>& ss,
@@ -235,7 +235,7 @@ plot::Canvas sim_error_figure(const SimRun& run) {
       const SeamMetrics& o = run.open_loop_metrics[static_cast<std::size_t>(k)];
       std::snprintf(line, sizeof line, "open loop (no sensor): rms lateral %.3f mm   rms vertical %.3f mm   max %.3f mm",
                     o.rms_lateral_mm, o.rms_vertical_mm, o.max_error_mm);
-      canvas.text(600, top + 24, line, {120, 40, 40});
+      canvas.text(90, top + 362, line, {150, 40, 40});
     }
     canvas.text(90, top + 348,
                 "blue: lateral (in the plate, towards the open side)   orange: vertical (along the plate normal)",
