@@ -33,6 +33,8 @@ constexpr NumberKey kCellKeys[] = {
     {"offset_mm", &SimCellParams::offset_mm},
     {"rotation_deg", &SimCellParams::rotation_deg},
     {"seam1_bow_mm", &SimCellParams::seam1_bow_mm},
+    {"seam1_wave_mm", &SimCellParams::seam1_wave_mm},
+    {"seam1_wavelength_mm", &SimCellParams::seam1_wavelength_mm},
     {"seam1_gap_rise_mm", &SimCellParams::seam1_gap_rise_mm},
     {"seam1_short_mm", &SimCellParams::seam1_short_mm},
     {"tack_spacing_mm", &SimCellParams::tack_spacing_mm},

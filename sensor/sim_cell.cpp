@@ -105,6 +105,12 @@ std::string validate(const SimCellParams& p) {
     return bad("seam1_bow_mm", p.seam1_bow_mm, "must be between 0 and 0.2 box_side_mm");
   if (p.seam1_bow_mm > 0.0 && 0.5 * p.plate_side_mm - 0.5 * p.box_side_mm < p.seam1_bow_mm + 20.0)
     return bad("seam1_bow_mm", p.seam1_bow_mm, "must leave 20 mm of plate outside the box");
+  if (!std::isfinite(p.seam1_wave_mm) || std::abs(p.seam1_wave_mm) > 10.0)
+    return bad("seam1_wave_mm", p.seam1_wave_mm, "must be between -10 and 10 mm");
+  if (!std::isfinite(p.seam1_wavelength_mm) || p.seam1_wavelength_mm < 30.0)
+    return bad("seam1_wavelength_mm", p.seam1_wavelength_mm, "must be at least 30 mm");
+  if (p.seam1_wave_mm != 0.0 && 0.5 * p.plate_side_mm - 0.5 * p.box_side_mm < std::abs(p.seam1_wave_mm) + p.seam1_bow_mm + 20.0)
+    return bad("seam1_wave_mm", p.seam1_wave_mm, "must leave 20 mm of plate outside the box");
   if (!std::isfinite(p.tack_spacing_mm) || (p.tack_spacing_mm != 0.0 && p.tack_spacing_mm < 10.0))
     return bad("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
   if (!std::isfinite(p.distortion_deg_per_100mm) || std::abs(p.distortion_deg_per_100mm) > 5.0)
@@ -155,35 +161,48 @@ SimCell build_sim_cell(const SimCellParams& p) {
 
   const double ph = 0.5 * p.plate_side_mm;
   cell.mesh = plate_mesh(block(-ph, ph, -ph, ph, -p.plate_thickness_mm, 0.0), 10.0, actual);
-  // The bowed wall's footprint (box frame, z = 0): from (-h, -h) to (x1, -h)
-  // along a circular arc bulging to -y by the bow at the middle.
+  // A curved seam-1 wall's footprint (box frame, z = 0), points 2 mm apart
+  // or closer from (-h, -h) to (x1, -h): moved to -y by the bow's circular
+  // arc and the waves. The wall is flat between them (a chord of a 150 mm
+  // radius sags 3 um over 2 mm) and the truth is the same polyline.
   std::vector<Vec2> bowed;
-  if (p.seam1_bow_mm > 0.0) {
+  if (p.seam1_bow_mm > 0.0 || p.seam1_wave_mm != 0.0) {
     const double b = p.seam1_bow_mm, c = 0.5 * (x1 + h), xm = 0.5 * (x1 - h);
-    const double r = (c * c + b * b) / (2.0 * b);
+    const double r = b > 0.0 ? (c * c + b * b) / (2.0 * b) : 0.0;
     const double yc = -h - b + r;
-    const int n = std::max(2, static_cast<int>(std::ceil(2.0 * c / 0.5)));
+    const int n = 2 * std::max(1, static_cast<int>(std::ceil(c / 2.0)));  // even: a point mid-seam
     for (int i = 0; i <= n; ++i) {
       const double x = -h + 2.0 * c * i / n;
-      bowed.emplace_back(x, i == 0 || i == n ? -h : yc - std::sqrt(r * r - (x - xm) * (x - xm)));
+      double y = -h;
+      if (b > 0.0 && i > 0 && i < n) y = yc - std::sqrt(r * r - (x - xm) * (x - xm));
+      y -= p.seam1_wave_mm * std::sin(2.0 * std::numbers::pi * (x + h) / p.seam1_wavelength_mm);
+      bowed.emplace_back(x, y);
     }
   }
   if (bowed.empty()) {
     cell.mesh.append(plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
   } else {
-    // The box as its footprint extruded up: a section in (x, y) of the box
-    // frame, counter-clockwise seen from above; its x is the box's z.
-    Plate box;
-    box.section_yz = bowed;
-    box.section_yz.emplace_back(x1, h);
-    box.section_yz.emplace_back(-h, h);
-    box.x0_mm = 0.0;
-    box.x1_mm = p.box_height_mm;
+    // The box behind the wall (from 5 mm inside the wall's innermost point
+    // to the far side), and strips from the wall to it, each a convex
+    // footprint (a trapezoid from two wall points) extruded up: a section
+    // in (x, y) of the box frame, counter-clockwise seen from above; its x
+    // is the box's z. The strips' shared faces lie inside the box. Short
+    // strips keep every triangle small (long thin ones slow the ray casts).
+    double inner = -h;
+    for (const Vec2& q : bowed) inner = std::max(inner, q.y());
+    inner += 5.0;
+    cell.mesh.append(plate_mesh(block(-h, x1, inner, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
     Pose box_from_section = Pose::Identity();
     box_from_section.linear().col(0) = Vec3::UnitZ();
     box_from_section.linear().col(1) = Vec3::UnitX();
     box_from_section.linear().col(2) = Vec3::UnitY();
-    cell.mesh.append(plate_mesh(box, 10.0, actual * plate_from_box * box_from_section));
+    for (std::size_t i = 1; i < bowed.size(); ++i) {
+      Plate strip;
+      strip.section_yz = {bowed[i - 1], bowed[i], Vec2(bowed[i].x(), inner), Vec2(bowed[i - 1].x(), inner)};
+      strip.x0_mm = 0.0;
+      strip.x1_mm = p.box_height_mm;
+      cell.mesh.append(plate_mesh(strip, 10.0, actual * plate_from_box * box_from_section));
+    }
   }
 
   const Eigen::Matrix3d rb = plate_from_box.linear();

@@ -42,6 +42,11 @@ struct SimCellParams {
   // the box's seam-1 wall bows out of the box (towards -y) along a circular
   // arc through its ends, this far at the middle: a curved seam 1;
   double seam1_bow_mm = 0.0;
+  // and/or waves across its length: the wall's footprint moves out of the
+  // box by seam1_wave_mm sin(2 pi u / seam1_wavelength_mm) at u mm from
+  // seam 1's start (an S-curve for one wavelength over the seam);
+  double seam1_wave_mm = 0.0;
+  double seam1_wavelength_mm = 150.0;
   // tack welds on both seams: a bead in the fillet's corner (legs
   // tack_leg_mm on the plate and up the wall, its face bulging 0.3 leg out
   // of the straight line between them) tack_length_mm long, the first
@@ -71,7 +76,7 @@ struct SimSeamTruth {
   Vec3 plate_normal = Vec3::UnitZ();  // unit, out of the plate
   Vec3 wall_normal = -Vec3::UnitY();  // unit, the wall's open-side face, out of the box
   // A curved seam: the root line as a polyline from start to end (points
-  // 0.5 mm apart or closer); empty: the straight line.
+  // 2 mm apart or closer, the wall flat between them); empty: the straight line.
   std::vector<Vec3> path;
   Vec3 direction() const { return (end - start).normalized(); }
   double length() const;  // along the path

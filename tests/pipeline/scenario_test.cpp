@@ -56,7 +56,7 @@ TEST_CASE("sim cell: a bowed seam 1 is a circular arc of the given sagitta throu
   p.seam1_bow_mm = 6.0;
   const SimCell cell = build_sim_cell(p);
   const SimSeamTruth& t = cell.truth[0];
-  REQUIRE(t.path.size() > 100);
+  REQUIRE(t.path.size() > 50);
   // Workpiece frame = world less the nominal pose (no displacement here).
   const Pose wp = cell.actual_world_from_workpiece.inverse();
   const Vec3 a = wp * t.path.front(), b = wp * t.path.back();
@@ -81,6 +81,34 @@ TEST_CASE("sim cell: a bowed seam 1 is a circular arc of the given sagitta throu
   const PointError e = seam_error(t, w * Vec3(0.0, -82.0, 0.5));
   CHECK(e.lateral_mm == Approx(1.0).margin(1e-4));
   CHECK(e.vertical_mm == Approx(0.5).margin(1e-9));
+}
+
+TEST_CASE("sim cell: an S-curved seam 1 follows its sine", "[sim]") {
+  SimCellParams p;
+  p.offset_mm = 0.0;
+  p.rotation_deg = 0.0;
+  p.seam1_wave_mm = 4.0;
+  p.seam1_wavelength_mm = 100.0;
+  const SimCell cell = build_sim_cell(p);
+  const SimSeamTruth& t = cell.truth[0];
+  REQUIRE(t.path.size() > 50);
+  const Pose wp = cell.actual_world_from_workpiece.inverse();
+  double lo = 0.0, hi = 0.0;
+  for (const Vec3& q : t.path) {
+    const Vec3 w = wp * q;
+    const double u = w.x() + 75.0;
+    CHECK(w.y() == Approx(-75.0 - 4.0 * std::sin(2.0 * std::numbers::pi * u / 100.0)).margin(1e-9));
+    CHECK(std::abs(w.z()) < 1e-9);
+    lo = std::min(lo, w.y() + 75.0);
+    hi = std::max(hi, w.y() + 75.0);
+  }
+  CHECK(lo == Approx(-4.0).margin(0.01));
+  CHECK(hi == Approx(4.0).margin(0.01));
+  // 1 mm outside the crest (u = 25 mm, 4 mm out) is 1 mm lateral (the
+  // polyline's chords, 2 mm long, sag up to 7 um there).
+  const Pose& w = cell.actual_world_from_workpiece;
+  const PointError e = seam_error(t, w * Vec3(-50.0, -79.0 - 1.0, 0.0));
+  CHECK(e.lateral_mm == Approx(1.0).margin(0.01));
 }
 
 TEST_CASE("sim cell: tack welds where and as long as asked, as beads in the fillet's corner", "[sim]") {
