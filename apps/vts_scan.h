@@ -28,6 +28,7 @@ struct ScanOptions {
   std::string out;
   std::string source;
   std::string threads;
+  std::string compression;
   bool reference = false;
   bool ideal = false;
 };

@@ -20,6 +20,8 @@
 // scanning batches of 512 poses, no error model: how vts scan splits a batch.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -29,6 +31,7 @@
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
 #include "sensor/reference_source.h"
+#include "sensor/workpiece.h"
 
 namespace {
 
@@ -47,8 +50,7 @@ vts::Cell bench_cell(const std::string& name) {
   return *cell;
 }
 
-void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_name, bool merge_planar) {
-  const vts::Cell cell = bench_cell(cell_name);
+void run_pipeline(benchmark::State& state, bool raster, const vts::Cell& cell, bool merge_planar) {
   const auto source = make_source(raster, cell, merge_planar);
   std::vector<vts::Pose> poses(kBatch);
   std::vector<vts::Profile> ideal(kBatch);
@@ -69,6 +71,49 @@ void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_n
   state.SetItemsProcessed(state.iterations() * kBatch);
   state.counters["triangles"] = benchmark::Counter(static_cast<double>(cell.mesh().triangle_count()),
                                                    benchmark::Counter::kAvgThreads);
+  state.counters["columns"] = benchmark::Counter(cell.scanner.points, benchmark::Counter::kAvgThreads);
+}
+
+void BM_Pipeline(benchmark::State& state, bool raster, const std::string& cell_name, bool merge_planar) {
+  run_pipeline(state, raster, bench_cell(cell_name), merge_planar);
+}
+
+// How cost grows (issue 24 point 5), one thread. BM_Columns: the v-groove
+// with N columns (the mspot sensor's fan, N = 256 .. 4,096). BM_Triangles:
+// the built-in fillet 600 mm long, every face a grid of about cell_mm x
+// cell_mm quads (as fillet-1m), cell_mm chosen for the fewest triangles not
+// below T (10^3 .. 10^7; the counter "triangles" holds the count), the raster with
+// its planar merge off (every triangle sliced as given, as on a curved
+// part) and the reference; the default path, N = 512.
+void BM_Columns(benchmark::State& state, bool raster, int columns) {
+  vts::Cell cell = bench_cell("vgroove");
+  cell.scanner.points = columns;
+  run_pipeline(state, raster, cell, true);
+}
+
+void BM_Triangles(benchmark::State& state, bool raster, double triangles) {
+  vts::JointParams p = vts::default_params(vts::JointType::Fillet);
+  p.length_mm = 600.0;
+  // The grid (and the cuts along the seam) whose count comes nearest above
+  // `triangles`, by bisection on the cell size.
+  const vts::Workpiece plain = vts::build_workpiece(vts::JointType::Fillet, p);
+  auto count = [&](double cell_mm) {
+    std::int64_t n = 0;
+    for (const vts::Plate& plate : plain.plates) n += vts::plate_triangle_count(plate, cell_mm, cell_mm);
+    return static_cast<double>(n);
+  };
+  double lo = 0.01, hi = 1000.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = std::sqrt(lo * hi);
+    (count(mid) >= triangles ? lo : hi) = mid;
+  }
+  p.cell_mm = p.segment_mm = lo;
+  vts::Cell cell;
+  cell.name = "fillet-dense";
+  cell.workpieces.push_back(vts::build_workpiece(vts::JointType::Fillet, p));
+  cell.path = vts::default_path(cell.workpieces.front(), 100.0);
+  cell.scanner.points = 512;
+  run_pipeline(state, raster, cell, false);
 }
 
 void BM_Single(benchmark::State& state, bool raster, const std::string& cell_name) {
@@ -146,6 +191,19 @@ const int registered = [] {
     benchmark::RegisterBenchmark(raster ? "BM_RasterSingle/static-B" : "BM_ReferenceSingle/static-B",
                                  BM_Single, raster, std::string("static-B"))
         ->Unit(benchmark::kMicrosecond)->UseRealTime();
+  for (int columns : {256, 512, 1024, 2048, 4096})
+    for (bool raster : {true, false})
+      benchmark::RegisterBenchmark(
+          ((raster ? "BM_Columns/raster/" : "BM_Columns/reference/") + std::to_string(columns)).c_str(), BM_Columns,
+          raster, columns)
+          ->Unit(benchmark::kMicrosecond)->UseRealTime();
+  for (int exponent = 3; exponent <= 7; ++exponent)
+    for (bool raster : {true, false})
+      benchmark::RegisterBenchmark(
+          ((raster ? "BM_Triangles/raster-unmerged/1e" : "BM_Triangles/reference/1e") + std::to_string(exponent))
+              .c_str(),
+          BM_Triangles, raster, std::pow(10.0, exponent))
+          ->Unit(benchmark::kMicrosecond)->UseRealTime();
   for (const char* cell : {"static-B", "fillet-1m"})
     for (bool raster : {true, false})
       benchmark::RegisterBenchmark((std::string(raster ? "BM_RasterBatch/" : "BM_ReferenceBatch/") + cell).c_str(),

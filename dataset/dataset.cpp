@@ -26,7 +26,7 @@ constexpr const char* kManifestFormat = "vts-dataset 1";
 // The scene's EXR, and each row's count of valid points on the way.
 class SceneSink final : public ScanSink {
  public:
-  explicit SceneSink(fs::path path) : exr_(std::move(path)) {}
+  SceneSink(fs::path path, ExrCompression compression) : exr_(std::move(path), compression) {}
   void begin(const ProfileFileInfo& info) override {
     exr_.begin(info);
     valid_points.assign(static_cast<std::size_t>(info.profiles), 0);
@@ -160,7 +160,7 @@ ShardInfo write_shard(const DatasetSpec& spec, int k, const fs::path& out_dir, c
     scan.scene_label = sc.cell.name;
     scan.source = spec.source;
     scan.seed = sc.noise_seed;
-    SceneSink sink(out_dir / scene_exr_name(k, j));
+    SceneSink sink(out_dir / scene_exr_name(k, j), spec.compression);
     run_scan_job(scan, sink, scan_callbacks);
     for (int i = 0; i < spec.profiles_per_scene; ++i)
       jsonl.stream() << profile_line(spec, sc, i, sink.valid_points[static_cast<std::size_t>(i)]);

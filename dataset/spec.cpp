@@ -49,8 +49,8 @@ class SpecParser : public yaml_io::Reader {
   DatasetSpec spec(const YAML::Node& root) const {
     if (root.IsNull()) fail(1, "", "empty spec (expected a map with shards, scenes_per_shard, profiles_per_scene)");
     const Map m(*this, Field{root, "", 1},
-                {"seed", "shards", "scenes_per_shard", "profiles_per_scene", "step_mm", "source", "ideal", "joints",
-                 "sensors", "materials", "view"});
+                {"seed", "shards", "scenes_per_shard", "profiles_per_scene", "step_mm", "source", "ideal", "compression",
+                 "joints", "sensors", "materials", "view"});
     DatasetSpec s;
     if (auto x = m.get("seed")) s.seed = seed(*x);
     s.shards = count(m.require("shards"), "shards", kMaxShards);
@@ -67,6 +67,12 @@ class SpecParser : public yaml_io::Reader {
       else fail(*x, "source = '" + name + "': expected raster or reference");
     }
     if (auto x = m.get("ideal")) s.ideal = boolean(*x);
+    if (auto x = m.get("compression")) {
+      const std::string name = string(*x);
+      const auto method = exr_compression_from_string(name);
+      if (!method) fail(*x, "compression = '" + name + "': expected one of " + join_names(exr_compression_names()));
+      s.compression = *method;
+    }
     std::vector<int> joint_lines(std::size(kDatasetJoints), m.self().line());
     const auto jf = m.get("joints");
     if (jf) joint_lines.assign(joint_lines.size(), jf->line());
@@ -308,6 +314,8 @@ std::string dataset_spec_to_yaml(const DatasetSpec& s) {
   o << "step_mm: " << num(s.step_mm) << "\n";
   o << "source: " << to_string(s.source) << "\n";
   o << "ideal: " << (s.ideal ? "true" : "false") << "\n";
+  // Only when not the default, so that a spec without it keeps its text (and hash).
+  if (s.compression != ExrCompression::Zip) o << "compression: " << to_string(s.compression) << "\n";
   o << "joints:\n";
   for (const JointDraw& j : s.joints) {
     o << "  " << to_string(j.type) << ":\n";

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "pipeline/scan_session.h"
+#include "sensor/profile_exr.h"
 #include "sensor/workpiece.h"
 
 namespace vts {
@@ -84,6 +85,7 @@ struct DatasetSpec {
   double step_mm = 0.5;  // path step along the seam between a scene's profiles
   SourceKind source = SourceKind::Raster;
   bool ideal = false;    // true: the error model off (ideal geometric profiles)
+  ExrCompression compression = ExrCompression::Zip;  // the scenes' EXRs (every method lossless)
   // In kDatasetJoints' order, sensor_preset_names()' and material_names()'
   // order: the order of the draws, whatever the order in the file.
   std::vector<JointDraw> joints;

@@ -1,7 +1,9 @@
 #include "pipeline/scan_job.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <future>
 #include <cmath>
 #include <vector>
 
@@ -59,24 +61,50 @@ ScanStats run_scan_job(const ScanSpec& spec, ScanSink& sink, const ScanCallbacks
 
   const auto start = std::chrono::steady_clock::now();
   const int batch = std::max(1, spec.batch_profiles);
-  std::vector<ScanRequest> requests;
-  ScanResults results;
-  ScanStats stats;
-  for (std::int64_t first = 0; first < n; first += batch) {
+  // Two batches in flight: while the sink takes batch k on this thread (an
+  // EXR's compression and writing), batch k + 1 is scanned on a helper
+  // thread whose parallel loops share the thread pool with the
+  // compression's tasks, so neither stage waits for the other's serial
+  // parts. The sink still sees the batches in order, on this thread.
+  std::array<std::vector<ScanRequest>, 2> requests;
+  std::array<ScanResults, 2> results;
+  auto check_cancelled = [&] {
     if (callbacks.cancelled && callbacks.cancelled()) throw Cancelled();
+  };
+  auto scan_async = [&](std::int64_t first, int slot) {
     const std::int64_t count = std::min<std::int64_t>(batch, n - first);
-    requests.resize(static_cast<std::size_t>(count));
+    std::vector<ScanRequest>& req = requests[slot];
+    req.resize(static_cast<std::size_t>(count));
     for (std::int64_t k = 0; k < count; ++k)
-      requests[k] = {cell.path.pose_at(first + k), static_cast<double>(first + k) / cell.scanner.rate_hz, first + k};
-    session.scan(requests, results);
-
-    ScanBatch out{first, results.output(), {}};
-    if (spec.with_reference) out.reference = session.has_reference_source() ? results.output_ref() : out.profiles;
-    sink.write(out);
-    for (std::int64_t k = 0; k < count; ++k)
-      add(stats, out.profiles[k], results.ideal[k], session.has_reference_source() ? &results.ideal_ref[k] : nullptr);
+      req[k] = {cell.path.pose_at(first + k), static_cast<double>(first + k) / cell.scanner.rate_hz, first + k};
+    return std::async(std::launch::async, [&session, &req, &out = results[slot]] { session.scan(req, out); });
+  };
+  ScanStats stats;
+  // Declared after what its task uses: an exception leaves it first, and its
+  // destructor waits for the task.
+  std::future<void> pending;
+  // Polled once per batch, before it is written (before batch 0 is
+  // scanned): a job cancelled after m batches has written m, as before the
+  // two stages overlapped; the batch scanned ahead is dropped.
+  if (n > 0) {
+    check_cancelled();
+    pending = scan_async(0, 0);
+  }
+  for (std::int64_t first = 0, k = 0; first < n; first += batch, ++k) {
+    if (k > 0) check_cancelled();
+    pending.get();
+    // The counters include batch k, as the helper thread is idle now.
     stats.error_model = session.counts();
     stats.error_model_ref = session.reference_counts();
+    const int slot = static_cast<int>(k % 2);
+    if (first + batch < n) pending = scan_async(first + batch, 1 - slot);
+    const ScanResults& r = results[slot];
+    const std::int64_t count = static_cast<std::int64_t>(requests[slot].size());
+    ScanBatch out{first, r.output(), {}};
+    if (spec.with_reference) out.reference = session.has_reference_source() ? r.output_ref() : out.profiles;
+    sink.write(out);
+    for (std::int64_t i = 0; i < count; ++i)
+      add(stats, out.profiles[i], r.ideal[i], session.has_reference_source() ? &r.ideal_ref[i] : nullptr);
     stats.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (callbacks.progress) callbacks.progress(first + count, n, stats);
   }

@@ -6,8 +6,9 @@
 // `vts scan` and `vts static` run it, as do the front-ends to come (the
 // Python package, `vts dataset`, `vts serve`); docs/ARCHITECTURE.md.
 //
-// Everything is on the caller's thread but the batch's parallel work. No
-// signal handling here: a front-end maps its signals (or a client's
+// The sink is called on the caller's thread, batch after batch, while the
+// next batch is scanned on a helper thread (the two stages overlap; their
+// parallel work shares the thread limit's pool). No signal handling here: a front-end maps its signals (or a client's
 // `cancel`) to ScanCallbacks::cancelled.
 #include <cstdint>
 #include <functional>

@@ -2,10 +2,13 @@
 
 namespace vts {
 
-ExrSink::ExrSink(std::filesystem::path path) : path_(std::move(path)) {}
+ExrSink::ExrSink(std::filesystem::path path, ExrCompression compression)
+    : path_(std::move(path)), compression_(compression) {}
 ExrSink::~ExrSink() = default;
 
-void ExrSink::begin(const ProfileFileInfo& info) { writer_ = std::make_unique<ProfileExrWriter>(path_, info); }
+void ExrSink::begin(const ProfileFileInfo& info) {
+  writer_ = std::make_unique<ProfileExrWriter>(path_, info, compression_);
+}
 
 void ExrSink::write(const ScanBatch& batch) {
   for (std::size_t k = 0; k < batch.profiles.size(); ++k)

@@ -13,10 +13,11 @@ namespace vts {
 
 // Writes the job to a profile EXR (docs/EXR_FORMAT.md) through a temporary
 // file renamed by finish(): a failed or cancelled job leaves nothing under
-// `path`. Missing directories are created.
+// `path`. Missing directories are created. `compression`: how the file is
+// compressed (lossless, sensor/profile_exr.h; ZIP unless asked).
 class ExrSink final : public ScanSink {
  public:
-  explicit ExrSink(std::filesystem::path path);
+  explicit ExrSink(std::filesystem::path path, ExrCompression compression = ExrCompression::Zip);
   ~ExrSink() override;
   void begin(const ProfileFileInfo& info) override;
   void write(const ScanBatch& batch) override;
@@ -24,6 +25,7 @@ class ExrSink final : public ScanSink {
 
  private:
   std::filesystem::path path_;
+  ExrCompression compression_;
   std::unique_ptr<ProfileExrWriter> writer_;
 };
 

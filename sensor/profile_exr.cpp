@@ -200,6 +200,43 @@ std::vector<std::pair<std::string, std::string>> profile_attributes(const Profil
 
 namespace {
 
+struct CompressionName {
+  ExrCompression method;
+  std::string_view name;
+  Imf::Compression exr;
+};
+constexpr std::array<CompressionName, 5> kCompressions = {{
+    {ExrCompression::Zip, "zip", Imf::ZIP_COMPRESSION},
+    {ExrCompression::Zips, "zips", Imf::ZIPS_COMPRESSION},
+    {ExrCompression::Piz, "piz", Imf::PIZ_COMPRESSION},
+    {ExrCompression::Rle, "rle", Imf::RLE_COMPRESSION},
+    {ExrCompression::None, "none", Imf::NO_COMPRESSION},
+}};
+
+const CompressionName& compression_entry(ExrCompression c) {
+  for (const CompressionName& e : kCompressions)
+    if (e.method == c) return e;
+  throw std::invalid_argument("unknown ExrCompression");
+}
+
+}  // namespace
+
+std::string_view to_string(ExrCompression compression) { return compression_entry(compression).name; }
+
+std::optional<ExrCompression> exr_compression_from_string(std::string_view name) {
+  for (const CompressionName& e : kCompressions)
+    if (e.name == name) return e.method;
+  return std::nullopt;
+}
+
+std::vector<std::string> exr_compression_names() {
+  std::vector<std::string> names;
+  for (const CompressionName& e : kCompressions) names.emplace_back(e.name);
+  return names;
+}
+
+namespace {
+
 // OpenEXR's thread pool on the vts threads (common/parallel.h): each task
 // OpenEXR adds is queued and a thread of the arena takes it. OpenEXR's writer
 // blocks its caller until its tasks are done, so when it adds a task while
@@ -292,6 +329,7 @@ struct ProfileExrWriter::Impl {
   fs::path path;
   fs::path tmp;
   ProfileFileInfo info;
+  ExrCompression compression = ExrCompression::Zip;
   int width = 0;
   int rows_written = 0;  // rows handed to write()
   int chunk_first = 0;   // row of chunk slot 0
@@ -335,15 +373,15 @@ void ProfileExrWriter::Impl::open() {
   tmp += ".tmp-" + std::to_string(::getpid());
 
   // Part 0, "profiles": one row per profile, one column per point. Part 1,
-  // "rows": one row per profile, one column. Both ZIP with zlib's fastest
-  // level: about a third of level 4's time for files a few per cent larger
-  // (docs/PERFORMANCE.md); compression bounds vts scan.
+  // "rows": one row per profile, one column. Both compressed alike; ZIP and
+  // ZIPS with zlib's fastest level: about a third of level 4's time for files
+  // a few per cent larger (docs/PERFORMANCE.md); compression bounds vts scan.
   const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(width - 1, info.profiles - 1));
   auto part_header = [&](const char* name, int part_width) {
     Imf::Header h(display, Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(part_width - 1, info.profiles - 1)));
     h.setName(name);
     h.setType(Imf::SCANLINEIMAGE);
-    h.compression() = Imf::ZIP_COMPRESSION;
+    h.compression() = compression_entry(compression).exr;
     h.zipCompressionLevel() = 1;
     h.lineOrder() = Imf::INCREASING_Y;
     h.insert("vts.format", Imf::StringAttribute(kFormat));
@@ -375,8 +413,8 @@ void ProfileExrWriter::Impl::open() {
     throw ExrError(err("cannot create '" + tmp.string() + "': " + std::strerror(errno)));
   try {
     stream = std::make_unique<Imf::StdOFStream>(ofs, tmp.c_str());
-    // Compression (ZIP, zlib) is the writer's cost: OpenEXR compresses the
-    // 16-row blocks of a chunk on its thread pool, which runs on the vts
+    // Compression (ZIP: zlib) is the writer's cost: OpenEXR compresses the
+    // blocks of a chunk (16 rows for ZIP) on its thread pool, which runs on the vts
     // threads (see ArenaTaskProvider). The bytes written do not depend on
     // the thread count.
     file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, exr_threads());
@@ -438,10 +476,11 @@ void ProfileExrWriter::Impl::discard() noexcept {
   }
 }
 
-ProfileExrWriter::ProfileExrWriter(const fs::path& path, const ProfileFileInfo& info)
+ProfileExrWriter::ProfileExrWriter(const fs::path& path, const ProfileFileInfo& info, ExrCompression compression)
     : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
   impl_->info = info;
+  impl_->compression = compression;
   impl_->open();
 }
 

@@ -23,6 +23,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -48,6 +49,20 @@ struct ProfileFileInfo {
   std::uint64_t seed = 0;  // seed of the sensor error model's random draws
 };
 
+// How the writer compresses both parts: OpenEXR's lossless methods.
+// Zip (the default): zlib over blocks of 16 rows, the smallest files of
+// these; Zips: zlib row by row; Piz: wavelet and Huffman over blocks of 32
+// rows; Rle: run lengths; None: stored as is, the fastest to write and to
+// read (docs/EXR_FORMAT.md and docs/PERFORMANCE.md give sizes and speeds).
+// Every reader of vts files reads them all.
+enum class ExrCompression { Zip, Zips, Piz, Rle, None };
+// "zip", "zips", "piz", "rle", "none".
+std::string_view to_string(ExrCompression compression);
+// The method named `name` (as to_string writes it), or none.
+std::optional<ExrCompression> exr_compression_from_string(std::string_view name);
+// Every method's name, the default first.
+std::vector<std::string> exr_compression_names();
+
 // Streams rows to `path + ".tmp-<pid>"` and renames onto `path` in finish().
 // Destroying an unfinished writer removes the temporary file, so `path` never
 // holds a half-written file. Memory stays constant in the number of rows.
@@ -57,7 +72,8 @@ class ProfileExrWriter {
   // info.profiles (>= 1) rows will be written; info.scanner.points columns.
   // Creates the parent directory if needed; throws if info.scanner is not
   // valid (vts::validate) or the file cannot be created.
-  ProfileExrWriter(const std::filesystem::path& path, const ProfileFileInfo& info);
+  ProfileExrWriter(const std::filesystem::path& path, const ProfileFileInfo& info,
+                   ExrCompression compression = ExrCompression::Zip);
   ~ProfileExrWriter();
   ProfileExrWriter(const ProfileExrWriter&) = delete;
   ProfileExrWriter& operator=(const ProfileExrWriter&) = delete;

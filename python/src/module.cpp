@@ -477,7 +477,10 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     return arrays.dict(rec.info);
   });
 
-  m.def("_write_exr", [](const std::filesystem::path& path, const py::dict& d) {
+  m.def("_write_exr", [](const std::filesystem::path& path, const py::dict& d, const std::string& compression) {
+    const auto method = exr_compression_from_string(compression);
+    if (!method)
+      throw py::value_error("compression '" + compression + "': expected one of " + join_names(exr_compression_names()));
     const auto [rows, cols] = shape_of(d);
     ProfileFileInfo info;
     info.scanner = d["scanner"].cast<ScannerDesc>();
@@ -493,7 +496,7 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     const InArrays main_arrays(d, "", info.error_model);
     std::optional<InArrays> ref_arrays;
     if (info.has_reference) ref_arrays.emplace(d, "ref_", false);
-    ProfileExrWriter writer(path, info);
+    ProfileExrWriter writer(path, info, *method);
     for (std::int64_t r = 0; r < rows; ++r) {
       const Profile p = main_arrays.profile(r);
       if (!ref_arrays) {

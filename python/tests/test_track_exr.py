@@ -62,6 +62,19 @@ def test_exr_round_trip(tmp_path):
     np.testing.assert_array_equal(s.track_point, t.track_point)
 
 
+@pytest.mark.parametrize("compression", ["zip", "zips", "piz", "rle", "none"])
+def test_exr_round_trip_every_compression(tmp_path, compression):
+    s = vts.scan("vgroove", profiles=40, seed=3, reference=True)
+    p = tmp_path / f"{compression}.exr"
+    vts.write_exr(p, s, compression=compression)
+    t = vts.read_exr(p)
+    for k in ("y", "z", "range", "valid", "intensity", "true_y", "true_z", "true_valid",
+              "ref_y", "ref_z", "ref_range", "ref_valid", "pose", "time"):
+        np.testing.assert_array_equal(getattr(s, k), getattr(t, k), err_msg=k)
+    with pytest.raises(ValueError, match="compression 'lzw'"):
+        vts.write_exr(tmp_path / "x.exr", s, compression="lzw")
+
+
 def test_exr_errors_name_the_file(tmp_path):
     with pytest.raises(ValueError, match="missing.exr"):
         vts.read_exr(tmp_path / "missing.exr")

@@ -216,11 +216,12 @@ def read_exr(path: Union[str, os.PathLike]) -> Scan:
     return _scan_of(_vts._read_exr(os.fspath(path)))
 
 
-def write_exr(path: Union[str, os.PathLike], scan: Scan) -> None:
+def write_exr(path: Union[str, os.PathLike], scan: Scan, compression: str = "zip") -> None:
     """Write a Scan to a vts profile EXR (written whole under a temporary name,
     then renamed). The truth channels are written when scan.true_y is set, the
-    reference when scan.ref_y is set."""
-    _vts._write_exr(os.fspath(path), scan.arrays())
+    reference when scan.ref_y is set. compression: "zip" (default), "zips",
+    "piz", "rle" or "none", all lossless (docs/EXR_FORMAT.md)."""
+    _vts._write_exr(os.fspath(path), scan.arrays(), str(compression))
 
 
 def _params_text(params: Union[None, str, os.PathLike, Mapping[str, Any]]) -> tuple[str, str]:

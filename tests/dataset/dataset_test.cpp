@@ -135,6 +135,12 @@ TEST_CASE("dataset spec: the canonical form reads back as the same spec", "[data
       "  fillet: {angle_deg: [80, 100], gap_mm: [0, 2]}}\n",
       "r.yaml");
   CHECK(reordered == s);
+  // compression: written only when not zip, read back.
+  CHECK(canonical.find("compression") == std::string::npos);
+  vts::DatasetSpec none = s;
+  none.compression = vts::ExrCompression::None;
+  CHECK(vts::dataset_spec_to_yaml(none).find("\ncompression: none\n") != std::string::npos);
+  CHECK(vts::parse_dataset_spec(vts::dataset_spec_to_yaml(none), "n.yaml") == none);
   // The example spec reads.
   const vts::DatasetSpec example = vts::load_dataset_spec(fs::path(VTS_SOURCE_DIR) / "examples" / "dataset.yaml");
   CHECK(vts::parse_dataset_spec(vts::dataset_spec_to_yaml(example), "e.yaml") == example);
@@ -145,7 +151,7 @@ TEST_CASE("dataset spec: bad specs name the file, line, field and value", "[data
   auto error = [&](const std::string& more) { return spec_error(base + more, "bad.yaml"); };
   CHECK(error("shard_count: 3\n") ==
         "bad.yaml:4: shard_count: unknown key (expected one of: seed, shards, scenes_per_shard, profiles_per_scene, "
-        "step_mm, source, ideal, joints, sensors, materials, view)");
+        "step_mm, source, ideal, compression, joints, sensors, materials, view)");
   CHECK(error("joints:\n  fillet:\n    gap_mm: [3, 1]\n") == "bad.yaml:6: joints.fillet.gap_mm: [3, 1]: min must not exceed max");
   CHECK(error("joints:\n  fillet:\n    gap: 1\n") ==
         "bad.yaml:6: joints.fillet.gap: unknown key (expected one of: weight, length_mm, width_mm, thickness_mm, "
@@ -170,6 +176,8 @@ TEST_CASE("dataset spec: bad specs name the file, line, field and value", "[data
         "bad.yaml:4: joints.vgroove.passes: passes = [0, 1.5]: expected integers");
   CHECK(error("source: gpu\n") == "bad.yaml:4: source: source = 'gpu': expected raster or reference");
   CHECK(error("step_mm: 0\n") == "bad.yaml:4: step_mm: step_mm = 0: must be > 0");
+  CHECK(error("compression: lzw\n") ==
+        "bad.yaml:4: compression: compression = 'lzw': expected one of zip, zips, piz, rle, none");
   CHECK(error("seed: -3\n") == "bad.yaml:4: seed: seed = '-3': expected an integer 0 .. 18446744073709551615");
   CHECK(error("sensors: {mspot: {standoff_mm: [0, 100]}}\n") ==
         "bad.yaml:4: sensors.mspot.standoff_mm: [0, 100]: must be > 0");
@@ -186,6 +194,30 @@ TEST_CASE("dataset spec: bad specs name the file, line, field and value", "[data
         "bad.yaml:5: joints.corner: only 0 of 200 trial draws give a usable scene; narrow the ranges (the last "
         "refused: gap_mm = 6.52708: corner gap must be smaller than thickness_mm)");
   CHECK_THROWS_WITH(vts::load_dataset_spec("no/such/spec.yaml"), "no/such/spec.yaml:0: spec file not found");
+}
+
+TEST_CASE("dataset: compression none writes the same profiles and labels as zip", "[dataset]") {
+  const vts::DatasetSpec spec = small_spec();
+  vts::DatasetSpec none = spec;
+  none.compression = vts::ExrCompression::None;
+  const vts::test::TempDir a, b;
+  const vts::ShardInfo zipped = vts::write_shard(spec, 1, a.path);
+  const vts::ShardInfo stored = vts::write_shard(none, 1, b.path);
+  REQUIRE(zipped.files.size() == stored.files.size());
+  CHECK(zipped.files.back().sha256 == stored.files.back().sha256);  // the JSON Lines
+  for (std::size_t f = 0; f + 1 < zipped.files.size(); ++f) {
+    const vts::ProfileRecording x = vts::read_profile_exr(a.path / zipped.files[f].name);
+    const vts::ProfileRecording y = vts::read_profile_exr(b.path / stored.files[f].name);
+    CHECK(fs::file_size(b.path / stored.files[f].name) > fs::file_size(a.path / zipped.files[f].name));
+    REQUIRE(x.profiles.size() == y.profiles.size());
+    for (std::size_t i = 0; i < x.profiles.size(); ++i) {
+      CHECK(x.profiles[i].y_mm == y.profiles[i].y_mm);
+      CHECK(x.profiles[i].z_mm == y.profiles[i].z_mm);
+      CHECK(x.profiles[i].valid == y.profiles[i].valid);
+      CHECK(x.profiles[i].true_z_mm == y.profiles[i].true_z_mm);
+    }
+    CHECK(x.row_values == y.row_values);
+  }
 }
 
 TEST_CASE("dataset: a shard is a pure function of (spec, k)", "[dataset]") {

@@ -160,6 +160,26 @@ def test_npz_holds_what_the_exr_holds(tmp_path, variant):
     assert header == {k: v for k, v in attrs.items() if k != "vts.format"}
 
 
+@pytest.mark.parametrize("compression", ["zips", "piz", "rle", "none"])
+def test_openimageio_reads_every_compression(tmp_path, compression):
+    # vts scan --compression: OpenImageIO reads the same channels, bit for
+    # bit, as from the default (zip) file, and sees the method asked for.
+    (_, points, attrs), (_, rows, _) = read_exr(scan(tmp_path, "model-reference"))
+    (tmp_path / "s.exr").rename(tmp_path / "zip.exr")
+    extra, _, _ = VARIANTS["model-reference"]
+    vts("scan", "--cell", "fillet", "--start=5,70,70", "--direction", "1,0,0", "--step", str(STEP),
+        "--profiles", str(PROFILES), "--points", str(POINTS), "--seed", "3", *extra,
+        "--compression", compression, "--out", "c.exr", cwd=tmp_path)
+    (spec, c_points, c_attrs), (row_spec, c_rows, _) = read_exr(tmp_path / "c.exr")
+    assert spec.getattribute("compression") == compression
+    assert row_spec.getattribute("compression") == compression
+    assert c_attrs == attrs
+    for want, got in ((points, c_points), (rows, c_rows)):
+        assert sorted(want) == sorted(got)
+        for name in want:
+            np.testing.assert_array_equal(got[name].view(np.uint32), want[name].view(np.uint32), err_msg=name)
+
+
 def test_version_1_file_exports(tmp_path):
     # tests/data/profiles-v1.exr: OpenImageIO refuses its subsampled channels,
     # vts reads it and exports it.

@@ -118,10 +118,11 @@ void check_same_info(const ProfileFileInfo& got, const ProfileFileInfo& want) {
 struct Written {
   std::vector<Profile> profiles, reference;
 };
-Written write_random(const fs::path& file, const ProfileFileInfo& info, unsigned seed) {
+Written write_random(const fs::path& file, const ProfileFileInfo& info, unsigned seed,
+                     vts::ExrCompression compression = vts::ExrCompression::Zip) {
   std::mt19937 rng(seed);
   Written w;
-  ProfileExrWriter writer(file, info);
+  ProfileExrWriter writer(file, info, compression);
   for (int r = 0; r < info.profiles; ++r) {
     w.profiles.push_back(random_profile(rng, info.scanner.points, r));
     if (info.has_reference) {
@@ -181,6 +182,51 @@ TEST_CASE("exr: round trip is bit-exact", "[exr]") {
     check_same(rec.profiles[r], w.profiles[r]);
     if (reference) check_same(rec.reference[r], w.reference[r]);
   }
+}
+
+TEST_CASE("exr: every compression reads back bit-exact, whole and in blocks", "[exr]") {
+  TempDir dir;
+  const std::vector<std::string> names = vts::exr_compression_names();
+  REQUIRE(names == std::vector<std::string>{"zip", "zips", "piz", "rle", "none"});
+  const ProfileFileInfo info = make_info(80, 300, true);  // across a chunk (256) and the blocks (16, 32)
+  for (const std::string& name : names) {
+    INFO("compression " << name);
+    const auto compression = vts::exr_compression_from_string(name);
+    REQUIRE(compression);
+    CHECK(vts::to_string(*compression) == name);
+    const fs::path file = dir.path / (name + ".exr");
+    const Written w = write_random(file, info, 77u, *compression);
+    {
+      Imf::MultiPartInputFile in(file.c_str());
+      REQUIRE(in.parts() == 2);
+      const Imf::Compression want = name == "zip"    ? Imf::ZIP_COMPRESSION
+                                    : name == "zips" ? Imf::ZIPS_COMPRESSION
+                                    : name == "piz"  ? Imf::PIZ_COMPRESSION
+                                    : name == "rle"  ? Imf::RLE_COMPRESSION
+                                                     : Imf::NO_COMPRESSION;
+      CHECK(in.header(0).compression() == want);
+      CHECK(in.header(1).compression() == want);
+    }
+    const vts::ProfileRecording rec = vts::read_profile_exr(file);
+    check_same_info(rec.info, info);
+    REQUIRE(rec.profiles.size() == w.profiles.size());
+    for (std::size_t r = 0; r < w.profiles.size(); ++r) {
+      check_same(rec.profiles[r], w.profiles[r]);
+      check_same(rec.reference[r], w.reference[r]);
+    }
+    vts::ProfileExrReader reader(file);
+    std::vector<Profile> block, ref;
+    std::size_t r = 0;
+    while (const int n = reader.read(37, block, &ref)) {
+      for (int k = 0; k < n; ++k, ++r) {
+        check_same(block[k], w.profiles[r]);
+        check_same(ref[k], w.reference[r]);
+      }
+    }
+    CHECK(r == w.profiles.size());
+  }
+  CHECK_FALSE(vts::exr_compression_from_string("lzw"));
+  CHECK_FALSE(vts::exr_compression_from_string("ZIP"));
 }
 
 TEST_CASE("exr: writer rejects rows out of order and extra rows and wrong sizes", "[exr]") {
