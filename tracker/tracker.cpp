@@ -429,25 +429,12 @@ class Matcher {
   // there (the opening, a shadow at the joint).
   double cost_under(const Candidate& c, int i0, int i1, int stride) const {
     const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
-    // The reading's lines, each refitted to the points of the window on it
-    // (within the surface tolerance, twice): a line fitted to a short piece
-    // and continued across a wider window leaves its own surface.
+    // The reading's lines: its plates' (each on its own side of the joint)
+    // and those it sees beside them.
     std::array<Line, 2 + std::tuple_size_v<decltype(c.more)>> lines;
     int n_lines = 0;
     lines[n_lines++] = c.pa.line, lines[n_lines++] = c.pb.line;
     for (int k = 0; k < c.n_more; ++k) lines[n_lines++] = c.more[k];
-    for (int k = 0; k < n_lines; ++k)
-      for (int pass = 0; pass < 2; ++pass) {
-        PointSums ps;
-        for (int i = i0; i <= i1; i += stride)
-          if (lines[k].distance(pt(i)) <= tol_) ps.add(pt(i) - s_.ref_);
-        if (ps.n < 8) break;
-        const auto f = s_.fit(ps);
-        if (!f) break;
-        Line l = f->line;
-        l.orient_towards(origin_);
-        lines[k] = l;
-      }
     auto explained = [&](const Vec2& q, int col) {
       if (col <= ca || col >= cb) return false;
       if (c.groove_top) return c.groove_top->signed_distance(q) <= tol_;
