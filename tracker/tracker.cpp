@@ -409,11 +409,12 @@ class Matcher {
     const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
     return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
   }
-  // One of the profile's events of that kind, priced by the profile's
-  // rate of them (left in: under one reading the event is the joint, under
-  // the other one more of the profile's events).
+  // One of the profile's events of that kind, priced by the rate of the
+  // profile's other events (as weigh() leaves a reading's own out: an
+  // event must not make itself likely, a wide gap's columns the share
+  // that continue a run).
   double event_cost(int cols, std::uint8_t type) const {
-    return event_cost(cols, events_[type - 1], gone_[type - 1]);
+    return event_cost(cols, std::max(0, events_[type - 1] - 1), std::max(0, gone_[type - 1] - cols));
   }
 
   // The cost of the kept points i0..i1 (every stride-th, weighted), the
