@@ -10,6 +10,7 @@
 #include <cstring>
 #include <numbers>
 #include <span>
+#include <tuple>
 #include <Eigen/Cholesky>
 
 namespace vts::tracker {
@@ -84,6 +85,7 @@ struct Evidence {
   int points = 0;       // points in that window
   int unexplained = 0;  // of them, on no line of the reading and not inside its opening
   double fit = 0.0;     // the larger of the plates' rms about their lines there, in noise sigmas
+  int w0 = -1, w1 = -1;  // the first and last kept point of that window (point indices)
 };
 
 // One way of reading the profile as the configured joint.
@@ -119,6 +121,9 @@ struct Candidate {
   // surface tolerance).
   bool open_joint = false;
   bool parallel = false;  // the plates are parallel (butt, lap): weighed as such
+  // A groove reading (the groove model): the tops' line; everything between
+  // the tops' ends not in front of it is its walls and bottom.
+  std::optional<Line> groove_top;
   struct Opening {
     Vec2 a = Vec2::Zero(), b = Vec2::Zero(), into_a = Vec2::Zero(), into_b = Vec2::Zero();
     double slack_a = 0.0, slack_b = 0.0;
@@ -218,6 +223,7 @@ class Matcher {
     best_ = &best;
     prior_ = prior;
     n_readings_ = 0;
+    n_kept_ = 0;
     outside_mm_ = std::numeric_limits<double>::infinity();
     switch (joint) {
       case JointType::Fillet: fillet(); break;
@@ -258,6 +264,11 @@ class Matcher {
   static constexpr int kMaxReadings = 32;
   std::array<Reading, kMaxReadings> readings_;
   int n_readings_ = 0;
+  // The strongest accepted readings whole (kMaxKept of them), to weigh
+  // rivals over the same points (common_log_ratio).
+  static constexpr int kMaxKept = 6;
+  std::array<Candidate, kMaxKept> kept_;
+  int n_kept_ = 0;
   double outside_mm_ = 0.0;  // distance of the nearest reading outside the prior's region
 
   // Runs of columns that look like rays into a gap (invalid, or a point off
@@ -303,6 +314,16 @@ class Matcher {
                                         [](const Reading& x, const Reading& y) { return x.strength < y.strength; });
         if (weakest->strength < r.strength) *weakest = r;
       }
+      if (c.evidence.w0 >= 0 && c.evidence.w1 >= c.evidence.w0) {
+        if (n_kept_ < kMaxKept) {
+          kept_[n_kept_++] = c;
+        } else {
+          auto weakest = std::min_element(kept_.begin(), kept_.end(), [](const Candidate& x, const Candidate& y) {
+            return x.evidence.strength < y.evidence.strength;
+          });
+          if (weakest->evidence.strength < c.evidence.strength) *weakest = c;
+        }
+      }
     }
     if (!found_ || better(c, *best_)) *best_ = c;
     found_ = true;
@@ -310,11 +331,24 @@ class Matcher {
 
  public:
   // Calls f(track, strength) for each accepted reading farther than
-  // ConfidenceParams::distinct_mm from `track` (the best reading's).
+  // ConfidenceParams::distinct_mm from the best one's track point. A rival
+  // kept whole is weighed against the best over the same points (the union
+  // of their windows, common_log_ratio): its strength is the best's plus
+  // that log-likelihood ratio. The others (weaker than the kept ones) by
+  // their own evidence.
   template <class F>
-  void for_each_rival(const Vec2& track, F f) const {
-    for (int k = 0; k < n_readings_; ++k)
-      if ((readings_[k].track - track).norm() > p_.confidence.distinct_mm) f(readings_[k].track, readings_[k].strength);
+  void for_each_rival(const Candidate& best, F f) const {
+    const Vec2& track = *best.track;
+    for (int k = 0; k < n_readings_; ++k) {
+      if ((readings_[k].track - track).norm() <= p_.confidence.distinct_mm) continue;
+      double strength = readings_[k].strength;
+      for (int j = 0; j < n_kept_; ++j)
+        if (*kept_[j].track == readings_[k].track && kept_[j].evidence.strength == strength) {
+          strength = best.evidence.strength + common_log_ratio(best, kept_[j]);
+          break;
+        }
+      f(readings_[k].track, strength);
+    }
   }
   template <class F>
   void for_each_reading(F f) const {
@@ -363,6 +397,104 @@ class Matcher {
     const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
     const double x = d / sigma_;
     return x * x <= in2 ? 0.0 : 0.5 * (std::min(x * x, cap2) - in2);
+  }
+
+  // The cost of a random event of `cols` columns (a dropout run, a
+  // reflection cluster): ln(1 / p) for its start, p the rate of such events
+  // per column among the profile's span_ columns (`events` of them, Laplace's
+  // rule), and ln(1 / q) for each further column, q the share of their
+  // `gone` columns that continue one.
+  double event_cost(int cols, double events, double gone) const {
+    if (cols <= 0) return 0.0;
+    const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
+    return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
+  }
+  // One of the profile's events of that kind, priced by the rate of the
+  // profile's other events (as weigh() leaves a reading's own out: an
+  // event must not make itself likely, a wide gap's columns the share
+  // that continue a run).
+  double event_cost(int cols, std::uint8_t type) const {
+    return event_cost(cols, std::max(0, events_[type - 1] - 1), std::max(0, gone_[type - 1] - cols));
+  }
+
+  // The cost of the kept points i0..i1 (every stride-th, weighted), the
+  // points removed among them and their invalid columns under reading c, in
+  // one noise model for every reading: a point on a line of the reading
+  // costs cost() of its distance; a run of points off every line is
+  // priced as the cheaper of their costs and a random event (a reflection
+  // cluster) when it is short enough to be one; a run of invalid columns
+  // as a random event (a dropout). What the reading explains between its
+  // plates' ends costs nothing: the rays into an open joint's opening
+  // (points behind both plates inside it), a groove's walls and bottom
+  // (everything not in front of its tops' line), and any invalid columns
+  // there (the opening, a shadow at the joint).
+  double cost_under(const Candidate& c, int i0, int i1, int stride) const {
+    const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
+    // The reading's lines: its plates' (each on its own side of the joint)
+    // and those it sees beside them.
+    std::array<Line, 2 + std::tuple_size_v<decltype(c.more)>> lines;
+    int n_lines = 0;
+    lines[n_lines++] = c.pa.line, lines[n_lines++] = c.pb.line;
+    for (int k = 0; k < c.n_more; ++k) lines[n_lines++] = c.more[k];
+    auto explained = [&](const Vec2& q, int col) {
+      if (col <= ca || col >= cb) return false;
+      if (c.groove_top) return c.groove_top->signed_distance(q) <= tol_;
+      return c.open_joint && std::min(c.pa.line.signed_distance(q), c.pb.line.signed_distance(q)) < -tol_ &&
+             c.opening.contains(q);
+    };
+    double total = 0.0, run = 0.0;
+    int run_n = 0, prev_col = -2;
+    // A reflection cluster is a few points (twice what step 1 removes as
+    // one): a longer run off every line is a surface the reading misses.
+    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    auto close = [&] {
+      if (run_n > 0) total += run_n <= max_cluster ? std::min(run, event_cost(run_n, kPointEvent)) : run;
+      run = 0.0, run_n = 0;
+    };
+    auto point = [&](const Vec2& q, int col, int w, bool removed) {
+      if (removed && col != prev_col + 1) close();  // removed points: a run ends where their columns do
+      prev_col = col;
+      if (explained(q, col)) return close();
+      // Each plate explains the points on its side of the joint only: the
+      // reading says where each ends, and a point between the ends that lies
+      // on a plate's line says the plate goes on (lines[0], lines[1]: the
+      // plates'; the others, the lines it sees beside them, anywhere).
+      double d = std::numeric_limits<double>::infinity();
+      if (col <= ca) d = lines[0].distance(q);
+      if (col >= cb) d = lines[1].distance(q);
+      for (int k = 2; k < n_lines; ++k) d = std::min(d, lines[k].distance(q));
+      const double x = cost(d);
+      if (x > 0.0) run += w * x, run_n += w;
+      else close();
+    };
+    for (int i = i0; i <= i1; i += stride) point(pt(i), s_.cols[i], std::min(stride, i1 - i + 1), false);
+    close();
+    const int c0 = s_.cols[i0], c1 = s_.cols[i1];
+    prev_col = -2;
+    const auto removed = outliers_between(c0, c1);
+    for (std::size_t k = 0; k < removed.size(); ++k)
+      point(removed[k], s_.outlier_cols[static_cast<std::size_t>(&removed[k] - s_.outlier_points.data())], 1, true);
+    close();
+    int gone = 0;
+    for (int col = c0 + 1; col <= c1; ++col) {
+      if (col < c1 && s_.column_state[col] == kColumnInvalid && (col <= ca || col >= cb)) {
+        ++gone;
+      } else if (gone > 0) {
+        total += event_cost(gone, kInvalidEvent);
+        gone = 0;
+      }
+    }
+    return total;
+  }
+
+  // How much better reading b explains the points than reading a, over the
+  // same points: the union of their windows (cost_under of a less that of
+  // b, a log-likelihood ratio; > 0: b is the better reading).
+  double common_log_ratio(const Candidate& a, const Candidate& b) const {
+    const int i0 = std::min(a.evidence.w0, b.evidence.w0), i1 = std::max(a.evidence.w1, b.evidence.w1);
+    if (i0 < 0 || i1 < i0) return b.evidence.strength - a.evidence.strength;
+    const int stride = std::max(1, (i1 - i0) / 192);
+    return cost_under(a, i0, i1, stride) - cost_under(b, i0, i1, stride);
   }
 
   // The evidence for reading c (see Evidence): over the points within
@@ -494,14 +626,12 @@ class Matcher {
         if (cols <= 0) return 0.0;
         int own_gone = 0;
         const int own_events = events_between(ca, cb, type, &own_gone);
-        const double events = std::max(0, events_[type - 1] - own_events);
-        const double gone = std::max(0, gone_[type - 1] - own_gone);
-        const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
-        return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
+        return event_cost(cols, std::max(0, events_[type - 1] - own_events), std::max(0, gone_[type - 1] - own_gone));
       };
       event = random_event(invalid, kInvalidEvent) + random_event(into + stray, kPointEvent) - random_event(stray, kPointEvent);
     }
     ev.strength = std::min({r0[0], r0[1], r0[2]}) - r1 + event;
+    ev.w0 = w0, ev.w1 = w1;
     return ev;
   }
 
@@ -1443,8 +1573,10 @@ class Matcher {
     const bool had = found_;
     const auto readings = readings_;
     const int n_readings = n_readings_;
+    const auto kept = kept_;
+    const int n_kept = n_kept_;
     Candidate g;
-    found_ = false, best_ = &g, n_readings_ = 0;
+    found_ = false, best_ = &g, n_readings_ = 0, n_kept_ = 0;
     groove(JointType::VGroove);
     const bool g_ok = found_ && g.accepted;
     best_ = &best;
@@ -1459,6 +1591,7 @@ class Matcher {
     }
     found_ = had;
     readings_ = readings, n_readings_ = n_readings;
+    kept_ = kept, n_kept_ = n_kept;
     if (tops_agree) {
       best.wall_a = g.wall_a, best.wall_b = g.wall_b, best.top_width = g.top_width;
       if (p_.groove.vgroove_fill) best.fill_lowest = g.fill_lowest;
@@ -1854,6 +1987,7 @@ class Matcher {
                  check(c, "top width", c.top_width, gp.top_width_mm, "mm") &&
                  check(c, "mismatch", c.mismatch, gp.mismatch_mm, "mm") && check(c, "depth", c.depth, gp.depth_mm, "mm");
     if (c.accepted) {
+      c.groove_top = top;
       c.evidence = weigh_groove(c, wa ? wa->first : -1, wa ? wa->last : -1, wb ? wb->first : -1, wb ? wb->last : -1, la,
                                 lb, top);
       c.weighed = true;
@@ -2015,10 +2149,12 @@ class Matcher {
     // looking at every point of a long top).
     int first = c.pa.last + 1;
     while (first > c.pa.first && (pt(first - 1) - b1).squaredNorm() <= w * w) --first;
+    ev.w0 = first;
     for (int i = first; i <= c.pb.last; ++i) {
       const Vec2& q = pt(i);
       const bool on_a = i <= c.pa.last, on_b = i >= c.pb.first;
       if (on_b && (q - b5).squaredNorm() > w * w) break;
+      ev.w1 = i;
       ++ev.points;
       const double d0 = top.distance(q);
       double d;
@@ -2444,7 +2580,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     const double hidden = std::clamp(cp.hidden_prior, 1e-12, 1.0 - 1e-12);
     const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
     double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
-    m.for_each_rival(*best.track, [&](const Vec2& track, double strength) {
+    m.for_each_rival(best, [&](const Vec2& track, double strength) {
       rivals += std::exp(std::min(strength - e, 700.0));
       if (!out.rival_track_point || strength > out.rival_strength) {
         out.rival_track_point = track;

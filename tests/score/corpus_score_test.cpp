@@ -31,8 +31,8 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {89, 0.60}},     {tk::JointType::Butt, {90, 0.75}},
-      {tk::JointType::VGroove, {92, 0.71}},
+      {tk::JointType::Lap, {89, 0.60}},     {tk::JointType::Butt, {48, 0.75}},
+      {tk::JointType::VGroove, {84, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -52,7 +52,7 @@ TEST_CASE("corpus: the groove model's scores do not get worse", "[tracker][corpu
   o.first_seed = 1000001;
   o.profiles = 100;
   const std::pair<vc::Joint, Limit> limits[] = {
-      {vc::Joint::Bevel, {32, 0.67}},
+      {vc::Joint::Bevel, {28, 0.67}},
       {vc::Joint::UGroove, {5, 0.47}},
       {vc::Joint::JGroove, {8, 0.63}},
       {vc::Joint::VGrooveThick, {16, 0.75}},
@@ -185,5 +185,39 @@ TEST_CASE("corpus: a lap's upper plate reaches past reflection clusters to its e
     INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
                  << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][corpus]") {
+  // Development seeds (seed, noise level; -1: ideal), each a false read
+  // before: a reading 1-60 mm from the joint outranked the true one because
+  // each was weighed over its own window (a dropout run taken for a gap
+  // priced the true gap's rays nowhere; a v-groove reading that sees fewer
+  // of the bevels' points lost none for them). Weighed over the union of
+  // their windows in one noise model, the two are as strong: the profile is
+  // rejected as ambiguous, with the true joint among its readings (truth
+  // from the corpus' section).
+  struct Case {
+    vc::Joint joint;
+    std::uint64_t seed;
+    double level;
+  };
+  const Case cases[] = {{vc::Joint::Butt, 201, 0.0},     {vc::Joint::Butt, 251, 0.0},
+                        {vc::Joint::Butt, 257, 0.05},    {vc::Joint::Butt, 194, 0.1},
+                        {vc::Joint::Butt, 267, 0.1},     {vc::Joint::VGroove, 36, kIdealLevel},
+                        {vc::Joint::VGroove, 113, kIdealLevel}, {vc::Joint::VGroove, 243, 0.05},
+                        {vc::Joint::VGroove, 208, 0.1},  {vc::Joint::VGroove, 295, 0.2}};
+  for (const Case& c : cases) {
+    const ReadOne one = read_one(c.joint, c.seed, c.level);
+    const tk::TrackResult& r = one.result;
+    INFO(vc::joint_name(c.joint) << " seed " << c.seed << " level " << c.level << ": " << tk::to_string(r.status)
+                                 << " " << r.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.scored.outcome != tk::Outcome::False);
+    CHECK(r.status == tk::TrackStatus::Rejected);
+    CHECK(r.reason.rfind("ambiguous", 0) == 0);
+    const tk::Vec2 truth(one.profile.truth.track_y_mm, one.profile.truth.track_z_mm);
+    bool seen = false;
+    for (const auto& rd : r.readings) seen = seen || (rd.track_point - truth).norm() <= 1.0;
+    CHECK(seen);
   }
 }
