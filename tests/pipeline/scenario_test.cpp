@@ -28,6 +28,14 @@ double line_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (r - r.dot(d) * d).norm();
 }
 
+// The box where the program believes it is.
+SimCellParams undisplaced() {
+  SimCellParams p;
+  p.offset_mm = 0.0;
+  p.rotation_deg = 0.0;
+  return p;
+}
+
 }  // namespace
 
 TEST_CASE("weave: 0 -> +1 -> -1 -> 0 with dwells, by its definition", "[sim]") {
@@ -50,9 +58,7 @@ TEST_CASE("weave: 0 -> +1 -> -1 -> 0 with dwells, by its definition", "[sim]") {
 }
 
 TEST_CASE("sim cell: a bowed seam 1 is a circular arc of the given sagitta through the box's corners", "[sim]") {
-  SimCellParams p;
-  p.offset_mm = 0.0;
-  p.rotation_deg = 0.0;
+  SimCellParams p = undisplaced();
   p.seam1_bow_mm = 6.0;
   const SimCell cell = build_sim_cell(p);
   const SimSeamTruth& t = cell.truth[0];
@@ -84,9 +90,7 @@ TEST_CASE("sim cell: a bowed seam 1 is a circular arc of the given sagitta throu
 }
 
 TEST_CASE("sim cell: an S-curved seam 1 follows its sine", "[sim]") {
-  SimCellParams p;
-  p.offset_mm = 0.0;
-  p.rotation_deg = 0.0;
+  SimCellParams p = undisplaced();
   p.seam1_wave_mm = 4.0;
   p.seam1_wavelength_mm = 100.0;
   const SimCell cell = build_sim_cell(p);
@@ -112,19 +116,12 @@ TEST_CASE("sim cell: an S-curved seam 1 follows its sine", "[sim]") {
 }
 
 TEST_CASE("sim cell: tack welds where and as long as asked, as beads in the fillet's corner", "[sim]") {
-  SimCellParams p;
-  p.offset_mm = 0.0;
-  p.rotation_deg = 0.0;
+  SimCellParams p = undisplaced();
   p.tack_spacing_mm = 50.0;
   p.tack_first_mm = 25.0;
   p.tack_length_mm = 3.0;
   p.tack_leg_mm = 3.0;
-  const SimCell plain = [] {
-    SimCellParams q;
-    q.offset_mm = 0.0;
-    q.rotation_deg = 0.0;
-    return build_sim_cell(q);
-  }();
+  const SimCell plain = build_sim_cell(undisplaced());
   const SimCell cell = build_sim_cell(p);
   // 150 mm seams: tacks from 25 and 75 mm (one from 125 would end at 128,
   // less than 25 mm before the end).
@@ -160,9 +157,7 @@ TEST_CASE("sim cell: tack welds where and as long as asked, as beads in the fill
 }
 
 TEST_CASE("sim cell: thermal distortion turns the part ahead of the arc about the arc's point", "[sim]") {
-  SimCellParams p;
-  p.offset_mm = 0.0;
-  p.rotation_deg = 0.0;
+  SimCellParams p = undisplaced();
   p.distortion_deg_per_100mm = 1.0;
   const SimCell cell = build_sim_cell(p);
   const SimSeamTruth& t = cell.truth[0];
@@ -185,12 +180,7 @@ TEST_CASE("sim cell: thermal distortion turns the part ahead of the arc about th
   CHECK(moved.dot(d) == Approx(-50.0 * (1.0 - std::cos(a))).epsilon(1e-6));
   CHECK(std::abs(moved.dot(n)) < 1e-9);
   // Seam 2 as the part lies after seam 1: turned 1.5 degrees about its start.
-  const SimCell plain = [] {
-    SimCellParams q;
-    q.offset_mm = 0.0;
-    q.rotation_deg = 0.0;
-    return build_sim_cell(q);
-  }();
+  const SimCell plain = build_sim_cell(undisplaced());
   const SimSeamTruth& s2 = cell.truth[1];
   const SimSeamTruth& s2_plain = plain.truth[1];
   CHECK((s2.start - s2_plain.start).norm() < 1e-9);
