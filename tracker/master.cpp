@@ -364,10 +364,22 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     bool end_requested = false;
 
     std::vector<Vec3> rejected;  // joint data rejected in a row
+    const double tolerance = P.plan_tolerance_mm > 0.0 ? P.plan_tolerance_mm : P.search_margin_mm;
     auto poll = [&] {
       const auto j = sensor.latest_joint(now);
-      if (!j || j->profile_index == last_index) return;
+      if (!j || j->profile_index == last_index || stop_point) return;
       last_index = j->profile_index;
+      {
+        const Vec3 r = j->track_point_world - s_plan;
+        const double off = (r - r.dot(d_plan) * d_plan).norm();
+        if (off > tolerance) {
+          run.failure = "the joint tracked lies " + mm_text(off) + " mm from the planned seam, more than the " +
+                        mm_text(tolerance) + " mm the part may be displaced: not the seam planned";
+          stop_point = last_accepted;
+          sensor.laser_off();
+          return;
+        }
+      }
       if (!obj.add(j->track_point_world, P.fit_window_mm, P.gate_mm, P.gate_after)) {
         ++run.rejected_points;
         rejected.push_back(j->track_point_world);

@@ -62,6 +62,11 @@ struct MasterParams {
   // started again from them (SeamRun::refits).
   int refit_after_rejections = 6;
   bool recalibrate = true;
+  // Joint data further than this from the planned seam line end the seam
+  // with a failure: the joint tracked is not the seam planned (another
+  // joint, the wrong part). 0: search_margin_mm, the displacement the
+  // program is prepared for.
+  double plan_tolerance_mm = 0.0;
   // Moves between poses (to a search pose, backing off): 0 puts the tool
   // there in one cycle, as a perfect robot can; > 0 travels in a straight
   // line at this speed (the orientation turned by slerp, at most
