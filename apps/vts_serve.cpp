@@ -8,6 +8,7 @@
 
 #include "apps/cli.h"
 #include "apps/vts_sim.h"
+#include "pipeline/scenario.h"
 #include "sensor/profile_exr.h"
 #include "server/server.h"
 
@@ -15,7 +16,7 @@ namespace vts::apps {
 namespace {
 
 struct ServeOptions : BoxOptions {
-  std::string listen, port, max_clients, cell, scene;
+  std::string listen, port, max_clients, cell, scene, scenario;
   bool allow_remote = false, realtime = false;
 };
 
@@ -40,7 +41,23 @@ int run_serve(const ServeOptions& o) {
       host_options.cell = std::move(cell);
     }
   }
-  {
+  if (!o.scenario.empty()) {
+    // A scenario of `vts sim`: its box cell, disturbances, robot, sensor and program.
+    for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
+                                 {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
+                                 {"--seed", &o.seed}, {"--sensor", &o.sensor}, {"--material", &o.material},
+                                 {"--robot", &o.robot}, {"--robot-seed", &o.robot_seed}, {"--cell", &o.cell},
+                                 {"--scene", &o.scene}})
+      if (!v->empty()) cli::bad(opt, *v, "a scenario sets it in its file; not with --scenario");
+    try {
+      host_options.sim = o.scenario.find('/') != std::string::npos || o.scenario.ends_with(".yaml")
+                             ? load_scenario(o.scenario).spec
+                             : builtin_scenario(o.scenario).spec;
+    } catch (const ScenarioError& e) {
+      throw cli::UsageError(e.what());
+    }
+    if (!o.source.empty()) host_options.sim.source = cli::parse_source("--source", o.source);
+  } else {
     BoxOptions box = o;
     if (host_options.cell) box.sensor = box.material = box.rate = "";  // applied to the cell above
     host_options.sim = box_spec(box);  // the source and the seed, for any cell
@@ -110,6 +127,10 @@ CLI::App* add_serve_command(CLI::App& app, int& exit_code) {
                   "mounted 50 mm ahead of the torch; each profile carries its joint's truth (default: box)")
       ->type_name("NAME");
   cmd->add_option("--scene", o->scene, "Serve the cell of this scene file (docs/SCENE_FORMAT.md)")->type_name("FILE");
+  cmd->add_option("--scenario", o->scenario,
+                  "Serve a scenario of `vts sim` (`vts sim --scenarios`, or a scenario file): its box cell with "
+                  "the disturbances, its robot and sensor; sim.job carries its program (weave, move speed)")
+      ->type_name("NAME|FILE.yaml");
   cmd->add_option("--max-clients", o->max_clients, "Most clients connected at once, 1..4096 (default 256)")
       ->type_name("N");
   cmd->callback([o, &exit_code] {

@@ -8,6 +8,14 @@ namespace vts {
 
 namespace tk = vts::tracker;
 
+std::optional<Pose> scan_from_reported(const robot::Robot& robot, bool exact_robot,
+                                       const std::function<Pose(const tk::Pose3&)>& part_motion) {
+  if (exact_robot && !part_motion) return std::nullopt;  // a perfect robot is where it says, exactly
+  const Pose tcp = robot.tcp();
+  const Pose actual_from_reported = tcp * robot.reported_tcp().inverse();
+  return part_motion ? Pose(part_motion(tcp).inverse() * actual_from_reported) : actual_from_reported;
+}
+
 RobotSensor::RobotSensor(tk::SensorInterface* unit, VirtualProfileStream* head, std::string robot,
                          std::uint64_t robot_seed)
     : unit_(unit), head_(head), name_(std::move(robot)), seed_(robot_seed) {}
@@ -50,13 +58,7 @@ std::vector<tk::Event> RobotSensor::advance(double t, const tk::Pose3& commanded
     if (fault_.empty() && !robot_->fault().empty()) fault_ = "the robot stopped: " + robot_->fault();
     if (!unit_) return;
     const tk::Pose3 reported = robot_->reported_tcp();
-    // The sensor scans from where the arm really is (a perfect robot is
-    // where it reports itself, exactly); a moved part is scanned as the
-    // part unmoved from the sensor moved back.
-    if (head_ && part_motion)
-      head_->actual_from_reported = Pose(part_motion(robot_->tcp()).inverse() * robot_->tcp() * reported.inverse());
-    else if (head_ && name_ != "perfect")
-      head_->actual_from_reported = Pose(robot_->tcp() * reported.inverse());
+    if (head_) head_->actual_from_reported = scan_from_reported(*robot_, name_ == "perfect", part_motion);
     for (tk::Event e : unit_->advance(s, reported)) events.push_back(e);
   };
   for (double b : robot_->breaks_before(t)) run_to(b);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,14 @@
 #include "tracker/sensor_interface.h"
 
 namespace vts {
+
+// What a sensor head scans from relative to the pose the robot reports
+// (VirtualProfileStream::actual_from_reported): the real TCP, which an
+// arm's report misses by its absolute error, and the part's motion (the
+// moved part is scanned as the part unmoved from the sensor moved back).
+// Empty when both are exact (a perfect robot, a part that stays).
+std::optional<Pose> scan_from_reported(const robot::Robot& robot, bool exact_robot,
+                                       const std::function<Pose(const tracker::Pose3& tcp)>& part_motion);
 
 class RobotSensor final : public tracker::SensorInterface {
  public:

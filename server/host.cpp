@@ -5,6 +5,7 @@
 
 #include "common/version.h"
 #include "pipeline/profile_truth.h"
+#include "pipeline/robot_sensor.h"
 #include "robot/robots.h"
 #include "sensor/sim_cell.h"
 
@@ -48,6 +49,7 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home = cell_->cell.path.pose_at(0) * cell_->scanner.tool_from_laser.inverse();
   } else {
     box_.emplace(make_sim_rig(options.sim));
+    if (options.sim.cell.distortion_deg_per_100mm != 0.0) distortion_.emplace(box_->run.cell);
     // Where the master's first move will take it from: the nominal
     // workpiece origin, 200 mm up, torch down.
     home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
@@ -151,7 +153,15 @@ Json CellHost::step(double to_s) {
     // The sensor's data are stamped with the pose the controller reports;
     // it scans where the arm really is.
     const Pose3 reported = robot_->reported_tcp();
-    if (head_ && arm_) head_->actual_from_reported = Pose3(robot_->tcp() * reported.inverse());
+    if (head_) {
+      std::function<Pose(const Pose3&)> motion;
+      if (distortion_)
+        motion = [this](const Pose3& tcp) {
+          distortion_->update(tcp.translation());
+          return distortion_->part_motion();
+        };
+      head_->actual_from_reported = scan_from_reported(*robot_, !arm_, motion);
+    }
     const std::vector<tk::Event> ev = sensor().advance(t, reported);
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile
@@ -299,6 +309,11 @@ Json CellHost::job_json() const {
   mp["direction_span_mm"] = m.direction_span_mm;
   mp["refit_after_rejections"] = m.refit_after_rejections;
   mp["recalibrate"] = m.recalibrate;
+  mp["move_speed_mm_s"] = m.move_speed_mm_s;
+  mp["settle_s"] = m.settle_s;
+  mp["plan_tolerance_mm"] = m.plan_tolerance_mm;
+  mp["weave"] = {{"amplitude_mm", m.weave.amplitude_mm}, {"frequency_hz", m.weave.frequency_hz},
+                 {"dwell_s", m.weave.dwell_s}};
   o["seams"] = seams;
   o["world_from_workpiece"] = to_json(run.cell.nominal_world_from_workpiece);
   o["master"] = mp;
@@ -328,6 +343,11 @@ Json CellHost::truth_json() const {
     s["plate_normal"] = to_json(t.plate_normal);
     s["wall_normal"] = to_json(t.wall_normal);
     s["lateral"] = to_json(t.lateral());
+    if (!t.path.empty()) {
+      Json path = Json::array();
+      for (const Vec3& q : t.path) path.push_back(to_json(q));
+      s["path"] = path;
+    }
     seams.push_back(s);
   }
   o["seams"] = seams;

@@ -89,7 +89,8 @@ class CellHost {
   Json profile_json(const tracker::SensorProfile& p, const tracker::TrackResult& r) const;
 
   HostOptions options_;
-  std::optional<SimRig> box_;    // the box cell, or
+  std::optional<SimRig> box_;    // the box cell (its thermal distortion in distortion_), or
+  std::optional<SeamDistortion> distortion_;
   std::optional<CellRig> cell_;  // another cell
   // The virtual sensor head behind the unit, told where an arm really is
   // (VirtualProfileStream::actual_from_reported); null on a replay.

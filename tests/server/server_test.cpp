@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "pipeline/scenario.h"
 #include "server/client.h"
 #include "server/host.h"
 #include "server/server.h"
@@ -417,4 +418,44 @@ TEST_CASE("An arm stops on a pose it cannot reach, says why, and refuses motion 
   const Json refused = host.handle_line(m.dump(), a);
   CHECK(refused["error"] == "failed");
   CHECK_THAT(refused["message"].get<std::string>(), Contains("stopped on a fault"));
+}
+
+TEST_CASE("vts serve hosts a vts sim scenario: its arm, curved seam and program, welded from outside", "[server]") {
+  // s-curve: the KR 16, seam 1 an S; the master's parameters (move speed,
+  // settling) come with sim.job. The arm starts elsewhere than in vts sim
+  // (above the workpiece, not at the first search pose), so the runs are
+  // close, not identical.
+  const Scenario sc = builtin_scenario("s-curve");
+  HostOptions ho;
+  ho.sim = sc.spec;
+  ho.robot = sc.spec.robot;
+  ho.robot_seed = sc.spec.robot_seed;
+  const SimRun local = run_sim(sc.spec);
+  REQUIRE(local.completed());
+
+  Running srv(ho);
+  client::Client c("127.0.0.1", srv.server->port(), "control", "test-master");
+  c.hello();
+  client::RemoteSensor sensor(c);
+  const Json job = c.request("sim.job");
+  CHECK(job["master"]["move_speed_mm_s"].get<double>() == kArmMoveSpeedMmS);
+  const SimRig rig = make_sim_rig(sc.spec);
+  // The real TCP of each cycle, as the simulator knew it.
+  std::vector<Pose> actual;
+  const tracker::MasterResult r =
+      tracker::Master(rig.master).run(sensor, client::pose_from_json(job["world_from_workpiece"]), rig.run.cell.plan,
+                                      [&](const tracker::MasterSample&) { actual.push_back(sensor.last_actual()); });
+  const Json truth = c.request("sim.truth");
+  CHECK(truth["seams"][0]["path"].size() == rig.run.cell.truth[0].path.size());
+  CHECK_FALSE(truth["seams"][1].contains("path"));
+  const std::vector<SeamMetrics> m = evaluate(rig.run.cell, r, &actual);
+  REQUIRE(m.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    INFO("seam " << k + 1 << ": " << m[k].failure);
+    CHECK(m[k].failure.empty());
+    CHECK(m[k].end_found);
+    CHECK(m[k].rms_lateral_mm < kScenarioRmsMm);
+    CHECK(m[k].max_error_mm < kScenarioMaxMm);
+    CHECK(std::abs(m[k].rms_lateral_mm - local.metrics[k].rms_lateral_mm) < 0.05);
+  }
 }
