@@ -2,6 +2,8 @@
 // it). Only bindings here: every call goes to the library API the CLI uses
 // (pipeline/scan_job.h, sensor/, tracker/, trackio/), so the package scans,
 // reads and tracks exactly as `vts scan`, `vts track` do.
+#include <chrono>
+#include <limits>
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -31,6 +33,8 @@
 #include "tracker/tracker.h"
 #include "trackio/params_yaml.h"
 #include "trackio/result_json.h"
+#include "pipeline/scenario.h"
+#include "pipeline/sim_run.h"
 
 namespace py = pybind11;
 using namespace vts;
@@ -549,6 +553,68 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     }
     py::list out;
     for (const std::string& l : lines) out.append(to_python(trackio::Json::parse(l)));
+    return out;
+  });
+
+  // ---- vts sim (python/vts/__init__.py: sim, scenarios) -------------------
+  m.def("scenarios", &scenario_names, "Names of the built-in vts sim scenarios (docs/SIM.md).");
+  m.def("_sim", [](const std::string& name, const std::string& yaml, const std::string& file) {
+    Scenario sc;
+    try {
+      sc = name.empty() ? parse_scenario(yaml, file) : builtin_scenario(name);
+    } catch (const ScenarioError& e) {
+      throw py::value_error(e.what());
+    }
+    SimRun run;
+    double wall_s = 0.0;
+    {
+      py::gil_scoped_release release;
+      const auto t0 = std::chrono::steady_clock::now();
+      run = run_sim(sc.spec);
+      wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    trackio::Json j = sim_summary_json(sc.spec, run, wall_s, wall_s);
+    const std::string reason = scenario_failure(run);
+    j["scenario"] = sc.name;
+    j["description"] = sc.description;
+    j["expect"] = sc.expect_pass ? "pass" : "fail";
+    j["verdict"] = reason.empty() ? "pass" : "fail";
+    j["reason"] = reason;
+    py::dict out = to_python(j);
+    // Per master cycle: time, seam (0-based, -1 after the last), phase, the
+    // real TCP, the commanded one, and while welding the errors of the weld
+    // path's centre from the true seam (NaN otherwise).
+    const auto& smp = run.result.samples;
+    const py::ssize_t n = static_cast<py::ssize_t>(smp.size());
+    F64 time(n), lateral(n), vertical(n), tcp({n, py::ssize_t{3}}), cmd({n, py::ssize_t{3}});
+    py::array_t<int> seam(n);
+    py::list phase;
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const auto& s = smp[static_cast<std::size_t>(i)];
+      const Pose actual = static_cast<std::size_t>(i) < run.actual_tcp.size() ? run.actual_tcp[i] : s.world_from_tool;
+      time.mutable_at(i) = s.time_s;
+      seam.mutable_at(i) = s.seam;
+      phase.append(std::string(tracker::to_string(s.phase)));
+      for (int k = 0; k < 3; ++k) {
+        tcp.mutable_at(i, k) = actual.translation()[k];
+        cmd.mutable_at(i, k) = s.world_from_tool.translation()[k];
+      }
+      double lat = std::numeric_limits<double>::quiet_NaN(), ver = lat;
+      if (s.phase == tracker::Phase::Weld && s.seam >= 0 && s.seam < static_cast<int>(run.cell.truth.size())) {
+        const PointError e = seam_error(run.cell.truth[static_cast<std::size_t>(s.seam)], actual.translation() - s.weave_mm);
+        lat = e.lateral_mm;
+        ver = e.vertical_mm;
+      }
+      lateral.mutable_at(i) = lat;
+      vertical.mutable_at(i) = ver;
+    }
+    out["time_s"] = time;
+    out["seam_index"] = seam;
+    out["phase"] = phase;
+    out["tcp_mm"] = tcp;
+    out["commanded_mm"] = cmd;
+    out["lateral_error_mm"] = lateral;
+    out["vertical_error_mm"] = vertical;
     return out;
   });
 

@@ -39,6 +39,7 @@ from ._vts import (  # noqa: F401  (re-exported)
     cells,
     load_scene,
     material_description,
+    scenarios,
     materials,
     parse_scene,
     sensor_description,
@@ -291,3 +292,33 @@ def track(scan: Scan, joint: Optional[str] = None,
         d.pop("range", None)
     text, name = _params_text(params)
     return _vts._track_recording(d, joint or "", text, name, bool(independent))
+
+
+def sim(scenario: Union[None, str, os.PathLike] = None, **spec: Any) -> dict:
+    """Run `vts sim`'s closed loop (and the same program open loop) in process.
+
+    scenario: a built-in scenario's name (vts.scenarios()) or a scenario
+    file's path (docs/SIM.md "Scenarios"); or None and the scenario's keys
+    as keyword arguments, e.g. vts.sim(robot="kr16", robot_seed=3,
+    seam1_bow_mm=4, weave_amplitude_mm=2) (the default: the box displaced
+    by seed 1, a perfect robot, the Embree reference source).
+
+    Returns the summary of `vts sim --scenario --json` as a dict (per seam:
+    errors in mm, the open loop's beside them; the verdict and its reason)
+    and per master cycle numpy arrays: time_s, seam_index (0-based, -1 after
+    the last), phase (list of str), tcp_mm and commanded_mm (N x 3, world,
+    mm: where the TCP really was and where the master sent it),
+    lateral_error_mm and vertical_error_mm (of the weld path's centre from
+    the true seam; NaN when not welding). Raises ValueError for an unknown
+    scenario or a bad key or value. The GIL is released while it runs.
+    """
+    if scenario is not None and spec:
+        raise ValueError("give a scenario or its keys, not both")
+    if scenario is not None:
+        text = str(scenario)
+        if os.sep in text or text.endswith(".yaml"):
+            with open(text, encoding="utf-8") as f:
+                return _vts._sim("", f.read(), text)
+        return _vts._sim(text, "", "")
+    yaml = "".join(f"{k}: {json.dumps(v)}\n" for k, v in spec.items())
+    return _vts._sim("", yaml or "{}\n", "<vts.sim>")
