@@ -241,10 +241,14 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     const Eigen::Quaterniond q0(from.linear()), q1(target.linear());
     const double dist = (target.translation() - from.translation()).norm();
     const double turn = q0.angularDistance(q1) * 180.0 / 3.14159265358979323846;
-    const double duration = std::max(dist / P.move_speed_mm_s, turn / MasterParams::kMaxTurnDegS);
+    // A smooth start and stop, as a controller's motion planner ramps a
+    // move: the fraction 3 u^2 - 2 u^3 of the way at u of the duration,
+    // whose peak speed, 1.5 times the mean, is the move speed.
+    const double duration = 1.5 * std::max(dist / P.move_speed_mm_s, turn / MasterParams::kMaxTurnDegS);
     const int n = std::max(1, static_cast<int>(std::ceil(duration / dt - 1e-9)));
     for (int i = 1; i <= n; ++i) {
-      const double f = static_cast<double>(i) / n;
+      const double u = static_cast<double>(i) / n;
+      const double f = u * u * (3.0 - 2.0 * u);
       tool.translation() = from.translation() + f * (target.translation() - from.translation());
       tool.linear() = q0.slerp(f, q1).toRotationMatrix();
       tick(seam, Phase::Move, 0.0);

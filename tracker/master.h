@@ -69,9 +69,10 @@ struct MasterParams {
   double plan_tolerance_mm = 0.0;
   // Moves between poses (to a search pose, backing off): 0 puts the tool
   // there in one cycle, as a perfect robot can; > 0 travels in a straight
-  // line at this speed (the orientation turned by slerp, at most
-  // kMaxTurnDegS), one servo target per cycle, then waits settle_s for the
-  // robot to come to rest.
+  // line at up to this speed (the orientation turned by slerp, at most
+  // kMaxTurnDegS), starting and stopping smoothly (3 u^2 - 2 u^3 of the way
+  // at u of the move's time), one servo target per cycle, then waits
+  // settle_s for the robot to come to rest.
   double move_speed_mm_s = 0.0;
   double settle_s = 0.0;
   static constexpr double kMaxTurnDegS = 90.0;
