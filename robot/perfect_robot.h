@@ -17,7 +17,8 @@
 
 namespace vts::robot {
 
-// The pose a fraction f of the way from a to b: position linear, rotation by slerp.
+// The pose a fraction f of the way from a to b: position linear, rotation by
+// slerp (the twin of tracker::interpolate; robot/ depends on none of our libraries).
 Pose3 interpolate(const Pose3& a, const Pose3& b, double f);
 
 // What a controller offers a master: the TCP, motion commands, a path

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -22,6 +23,9 @@ std::string_view to_string(Phase p) {
 }
 
 namespace {
+// The distance of r from the line through the origin along the unit vector u.
+double off_line(const Vec3& r, const Vec3& u) { return (r - r.dot(u) * u).norm(); }
+
 // A length in messages: to 0.1 mm.
 std::string mm_text(double v) {
   char buf[32];
@@ -125,7 +129,7 @@ bool SeamObject::add(const Vec3& p, double window_mm, double gate_mm, int gate_a
     // by up to about 11 degrees.
     const Vec3 d = direction();
     const Vec3 r = p - origin_;
-    if ((r - r.dot(d) * d).norm() > gate_mm + 0.2 * std::abs(r.dot(d))) return false;
+    if (off_line(r, d) > gate_mm + 0.2 * std::abs(r.dot(d))) return false;
   }
   const Vec3 q = p - origin_;  // sums relative to the origin, for precision
   sum_ += q;
@@ -230,8 +234,12 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     if (on_cycle) on_cycle(smp);
     return events;
   };
-  // To `target`: at once, or at the move speed and then settled.
+  // To `target`: at once, or at the move speed and then settled. The
+  // first move starts there (the robot is where the program begins).
+  bool first_move = true;
   auto move_to = [&](int seam, const Pose3& target) {
+    if (first_move) tool = target;
+    first_move = false;
     if (P.move_speed_mm_s <= 0.0) {
       tool = target;
       tick(seam, Phase::Move, 0.0);
@@ -240,7 +248,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     const Pose3 from = tool;
     const Eigen::Quaterniond q0(from.linear()), q1(target.linear());
     const double dist = (target.translation() - from.translation()).norm();
-    const double turn = q0.angularDistance(q1) * 180.0 / 3.14159265358979323846;
+    const double turn = q0.angularDistance(q1) * 180.0 / std::numbers::pi;
     // A smooth start and stop, as a controller's motion planner ramps a
     // move: the fraction 3 u^2 - 2 u^3 of the way at u of the duration,
     // whose peak speed, 1.5 times the mean, is the move speed.
@@ -249,15 +257,13 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     for (int i = 1; i <= n; ++i) {
       const double u = static_cast<double>(i) / n;
       const double f = u * u * (3.0 - 2.0 * u);
-      tool.translation() = from.translation() + f * (target.translation() - from.translation());
-      tool.linear() = q0.slerp(f, q1).toRotationMatrix();
+      tool = interpolate(from, target, f);
       tick(seam, Phase::Move, 0.0);
     }
     tool = target;
     const int settle = static_cast<int>(std::ceil(P.settle_s / dt - 1e-9));
     for (int i = 0; i < settle; ++i) tick(seam, Phase::Move, 0.0);
   };
-  bool first_move = true;
 
   for (int k = 0; k < static_cast<int>(seams.size()); ++k) {
     res.world_from_workpiece.push_back(believed);
@@ -278,8 +284,6 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
       Pose3 start = Pose3::Identity();
       start.linear() = tool_rotation(d_plan, np, nw);
       start.translation() = s_plan;
-      if (first_move) tool = start;  // the robot starts there
-      first_move = false;
       move_to(k, start);
       run.weld_start = tool.translation();
       weave_t = 0.0;
@@ -303,8 +307,6 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     search.linear() = tool_rotation(d_plan, np, nw);
     Vec3 begin = s_plan - (margin + P.lookahead_mm) * d_plan;
     search.translation() = begin;
-    if (first_move) tool = search;  // the robot starts there
-    first_move = false;
     move_to(k, search);
 
     auto finish = [&] {
@@ -374,8 +376,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
       if (!j || j->profile_index == last_index || stop_point) return;
       last_index = j->profile_index;
       {
-        const Vec3 r = j->track_point_world - s_plan;
-        const double off = (r - r.dot(d_plan) * d_plan).norm();
+        const double off = off_line(j->track_point_world - s_plan, d_plan);
         if (off > tolerance) {
           run.failure = "the joint tracked lies " + mm_text(off) + " mm from the planned seam, more than the " +
                         mm_text(tolerance) + " mm the part may be displaced: not the seam planned";
@@ -395,7 +396,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
         bool consistent = span.norm() > 1e-6;
         for (const Vec3& p : rejected) {
           const Vec3 r = p - rejected.front();
-          consistent = consistent && (r - r.dot(span.normalized()) * span.normalized()).norm() <= P.gate_mm;
+          consistent = consistent && off_line(r, span.normalized()) <= P.gate_mm;
         }
         if (!consistent) {
           rejected.erase(rejected.begin());

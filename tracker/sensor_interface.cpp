@@ -11,6 +11,8 @@ namespace {
 // (the joint is not fully in the laser plane yet, e.g. at a seam's start).
 constexpr double kMaxSupportMm = 1.0;
 
+}  // namespace
+
 Pose3 interpolate(const Pose3& a, const Pose3& b, double t) {
   const Eigen::Quaterniond qa(a.linear()), qb(b.linear());
   Pose3 p = Pose3::Identity();
@@ -18,8 +20,6 @@ Pose3 interpolate(const Pose3& a, const Pose3& b, double t) {
   p.translation() = (1.0 - t) * a.translation() + t * b.translation();
   return p;
 }
-
-}  // namespace
 
 double support_distance_mm(const ProfileView& p, const Vec2& point) {
   double best = std::numeric_limits<double>::infinity();

@@ -29,6 +29,11 @@ namespace vts::tracker {
 
 using Pose3 = Eigen::Isometry3d;
 
+// The pose a fraction t of the way from a to b: the position linearly, the
+// rotation by slerp. (robot/perfect_robot.h has its twin: robot/ depends on
+// none of our libraries.)
+Pose3 interpolate(const Pose3& a, const Pose3& b, double t);
+
 // One profile as the sensor head delivers it: points in the sensor frame, the
 // pose the robot reported for the sensor at the moment of the scan, and the time.
 struct SensorProfile {
