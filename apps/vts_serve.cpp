@@ -43,16 +43,11 @@ int run_serve(const ServeOptions& o) {
   }
   if (!o.scenario.empty()) {
     // A scenario of `vts sim`: its box cell, disturbances, robot, sensor and program.
-    for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
-                                 {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
-                                 {"--seed", &o.seed}, {"--sensor", &o.sensor}, {"--material", &o.material},
-                                 {"--robot", &o.robot}, {"--robot-seed", &o.robot_seed}, {"--cell", &o.cell},
-                                 {"--scene", &o.scene}})
+    refuse_box_options(o, "--scenario");
+    for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--cell", &o.cell}, {"--scene", &o.scene}})
       if (!v->empty()) cli::bad(opt, *v, "a scenario sets it in its file; not with --scenario");
     try {
-      host_options.sim = o.scenario.find('/') != std::string::npos || o.scenario.ends_with(".yaml")
-                             ? load_scenario(o.scenario).spec
-                             : builtin_scenario(o.scenario).spec;
+      host_options.sim = find_scenario(o.scenario).spec;
     } catch (const ScenarioError& e) {
       throw cli::UsageError(e.what());
     }

@@ -89,6 +89,14 @@ SimSpec box_spec(const BoxOptions& o) {
   return spec;
 }
 
+void refuse_box_options(const BoxOptions& o, const std::string& with) {
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
+                               {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
+                               {"--seed", &o.seed}, {"--sensor", &o.sensor}, {"--material", &o.material},
+                               {"--robot", &o.robot}, {"--robot-seed", &o.robot_seed}})
+    if (!v->empty()) bad(opt, *v, "a scenario sets it in its file; not with " + with);
+}
+
 void add_box_options(CLI::App* cmd, BoxOptions& o) {
   cmd->add_option("--speed", o.speed, "Weld (and search) speed, mm/s, 0.1..500 (default 10)")->type_name("MM_PER_S");
   cmd->add_option("--rate", o.rate, "Sensor profile rate, Hz, 1..10000 (default: the sensor's, 20 for mspot)")
@@ -122,7 +130,14 @@ struct SimPlan {
   fs::path out_dir;
 };
 
-fs::path out_dir_option(const std::string& dir);
+// --out-dir as an absolute path; refused if it is a file.
+fs::path out_dir_option(const std::string& dir) {
+  std::error_code ec;
+  fs::path out = fs::absolute(dir, ec).lexically_normal();
+  if (ec) bad("--out-dir", dir, "cannot make an absolute path: " + ec.message());
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) bad("--out-dir", dir, "exists and is not a directory");
+  return out;
+}
 
 SimPlan plan_sim(const SimOptions& o) {
   SimPlan plan;
@@ -232,14 +247,6 @@ void print_text_summary(const SimSpec& spec, const Simulated& sim, const fs::pat
               spec.replay.empty() ? "profiles.exr," : "");
 }
 
-fs::path out_dir_option(const std::string& dir) {
-  std::error_code ec;
-  fs::path out = fs::absolute(dir, ec).lexically_normal();
-  if (ec) bad("--out-dir", dir, "cannot make an absolute path: " + ec.message());
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) bad("--out-dir", dir, "exists and is not a directory");
-  return out;
-}
-
 // `--scenarios`, `--scenario NAME|FILE` and `--all`.
 int run_scenarios(const SimOptions& o) {
   if (o.list_scenarios) {
@@ -249,10 +256,8 @@ int run_scenarios(const SimOptions& o) {
     }
     return cli::kExitOk;
   }
-  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--speed", &o.speed},
-                               {"--rate", &o.rate}, {"--offset", &o.offset}, {"--rotation", &o.rotation},
-                               {"--seed", &o.seed}, {"--sensor", &o.sensor}, {"--material", &o.material},
-                               {"--robot", &o.robot}, {"--robot-seed", &o.robot_seed}, {"--replay", &o.replay},
+  refuse_box_options(o, "--scenario or --all");
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--replay", &o.replay},
                                {"--cell", &o.cell}, {"--scene", &o.scene}})
     if (!v->empty()) bad(opt, *v, "a scenario sets it in its file; not with --scenario or --all");
   if (o.all && !o.scenario.empty()) bad("--scenario", o.scenario, "give --scenario or --all, not both");
@@ -260,10 +265,8 @@ int run_scenarios(const SimOptions& o) {
   try {
     if (o.all) {
       for (const std::string& name : scenario_names()) scenarios.push_back(builtin_scenario(name));
-    } else if (o.scenario.find('/') != std::string::npos || o.scenario.ends_with(".yaml")) {
-      scenarios.push_back(load_scenario(o.scenario));
     } else {
-      scenarios.push_back(builtin_scenario(o.scenario));
+      scenarios.push_back(find_scenario(o.scenario));
     }
   } catch (const ScenarioError& e) {
     throw cli::UsageError(e.what());
@@ -281,17 +284,10 @@ int run_scenarios(const SimOptions& o) {
     const Simulated sim = simulate(sc.spec, out);
     const std::string reason = scenario_failure(sim.run);
     const bool passed = reason.empty();
-    const bool as_expected =
-        passed == sc.expect_pass && (passed || sc.expect_reason.empty() || reason.find(sc.expect_reason) != std::string::npos);
+    const bool as_expected = scenario_as_expected(sc, reason);
     all_as_expected = all_as_expected && as_expected;
     if (o.json) {
-      Json j = sim_summary_json(sc.spec, sim.run, sim.wall_s, sim.sim_wall_s);
-      j["scenario"] = sc.name;
-      j["description"] = sc.description;
-      j["expect"] = sc.expect_pass ? "pass" : "fail";
-      j["verdict"] = passed ? "pass" : "fail";
-      j["reason"] = reason;
-      j["as_expected"] = as_expected;
+      Json j = scenario_summary_json(sc, sim.run, sim.wall_s, sim.sim_wall_s);
       j["real_time_factor"] = sim.run.sim_time_s() / std::max(sim.sim_wall_s, 1e-9);
       j["out_dir"] = out.string();
       if (o.all) list.push_back(j);

@@ -22,6 +22,9 @@ void add_box_options(CLI::App* cmd, BoxOptions& options);
 // The experiment's spec from them; throws cli::UsageError naming the option
 // and the value.
 SimSpec box_spec(const BoxOptions& options);
+// With a scenario, whose file sets them, the box's options are refused:
+// UsageError "--seed = '4': a scenario sets it in its file; not with WITH".
+void refuse_box_options(const BoxOptions& options, const std::string& with);
 // --sensor, --material and --ideal onto a scanner.
 void apply_sensor_options(const BoxOptions& options, ScannerDesc& scanner);
 

@@ -156,6 +156,31 @@ Scenario builtin_scenario(const std::string& name) {
   throw ScenarioError("no scenario '" + name + "' (built in: " + join_names(scenario_names()) + ")");
 }
 
+Scenario find_scenario(const std::string& name_or_file) {
+  if (name_or_file.find('/') != std::string::npos || name_or_file.ends_with(".yaml"))
+    return load_scenario(name_or_file);
+  return builtin_scenario(name_or_file);
+}
+
+bool scenario_as_expected(const Scenario& sc, const std::string& reason) {
+  const bool passed = reason.empty();
+  return passed == sc.expect_pass &&
+         (passed || sc.expect_reason.empty() || reason.find(sc.expect_reason) != std::string::npos);
+}
+
+trackio::Json scenario_summary_json(const Scenario& sc, const SimRun& run, double wall_time_s,
+                                    double sim_wall_time_s) {
+  trackio::Json j = sim_summary_json(sc.spec, run, wall_time_s, sim_wall_time_s);
+  const std::string reason = scenario_failure(run);
+  j["scenario"] = sc.name;
+  j["description"] = sc.description;
+  j["expect"] = sc.expect_pass ? "pass" : "fail";
+  j["verdict"] = reason.empty() ? "pass" : "fail";
+  j["reason"] = reason;
+  j["as_expected"] = scenario_as_expected(sc, reason);
+  return j;
+}
+
 std::string scenario_failure(const SimRun& run) {
   if (!run.robot_fault.empty()) return run.robot_fault;
   char buf[256];

@@ -58,9 +58,18 @@ Scenario load_scenario(const std::filesystem::path& path);
 // ScenarioError listing them.
 std::vector<std::string> scenario_names();
 Scenario builtin_scenario(const std::string& name);
+// What a front-end's --scenario names: a file when it has a '/' or ends in
+// .yaml, else a built-in scenario.
+Scenario find_scenario(const std::string& name_or_file);
 
 // The verdict on a run: empty when it passes, else why not ("seam 1: seam
 // lost", "seam 2: rms lateral 0.31 mm > 0.2 mm", "the robot stopped: ...").
 std::string scenario_failure(const SimRun& run);
+// Whether a run failing for `reason` (empty: passed) is what the file expects.
+bool scenario_as_expected(const Scenario& scenario, const std::string& reason);
+// The run's summary (sim_summary_json) with the scenario's name,
+// description, expected verdict, the verdict, its reason and as_expected.
+trackio::Json scenario_summary_json(const Scenario& scenario, const SimRun& run, double wall_time_s,
+                                    double sim_wall_time_s);
 
 }  // namespace vts

@@ -102,10 +102,7 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
     RobotSensor loop(rig.sensor.get(), rig.head, spec.robot, spec.robot_seed);
     SeamDistortion distortion(run.cell);
     if (spec.cell.distortion_deg_per_100mm != 0.0)
-      loop.part_motion = [&](const Pose& tcp) {
-        distortion.update(tcp.translation());
-        return distortion.part_motion();
-      };
+      loop.part_motion = [&](const Pose& tcp) { return distortion.motion_with_tcp_at(tcp.translation()); };
     run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
     run.actual_tcp = loop.actual();
     run.robot_fault = loop.fault();
@@ -157,7 +154,7 @@ std::string sim_timeseries_csv(const SimRun& run) {
     const auto& samples = run.result.samples;
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const auto& s = samples[i];
-      const Pose tcp = i < run.actual_tcp.size() ? run.actual_tcp[i] : s.world_from_tool;
+      const Pose tcp = sample_tcp(run.result, &run.actual_tcp, i);
       const Vec3 p = tcp.translation();
       const Eigen::Quaterniond q = rotation_quat(tcp);
       std::snprintf(buf, sizeof buf, "%.4f,%d,%s,%s,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f,%.4f", s.time_s,
@@ -166,7 +163,7 @@ std::string sim_timeseries_csv(const SimRun& run) {
                     q.z(), s.s_mm);
       f << buf;
       if (s.phase == tk::Phase::Weld && s.seam >= 0 && s.seam < static_cast<int>(cell.truth.size())) {
-        const PointError e = seam_error(cell.truth[s.seam], p - s.weave_mm);
+        const PointError e = seam_error(cell.truth[s.seam], weld_centre(run.result, &run.actual_tcp, i));
         std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.4f,%.5f,%.5f", e.true_point.x(), e.true_point.y(),
                       e.true_point.z(), e.lateral_mm, e.vertical_mm);
         f << buf;
@@ -190,19 +187,14 @@ plot::Canvas sim_error_figure(const SimRun& run) {
   plot::Canvas canvas(1100, 360 * n + 50);
   for (int k = 0; k < n; ++k) {
     std::vector<double> s, lat, ver;
-    auto collect = [&](const tk::MasterResult& r, const std::vector<Pose>& actual, std::vector<double>& ss,
-                       std::vector<double>& ls, std::vector<double>& vs) {
-      for (std::size_t i = 0; i < r.samples.size(); ++i) {
-        const auto& smp = r.samples[i];
-        if (smp.seam != k || smp.phase != tk::Phase::Weld) continue;
-        const Pose tcp = i < actual.size() ? actual[i] : smp.world_from_tool;
-        const PointError e = seam_error(cell.truth[k], tcp.translation() - smp.weave_mm);
-        ss.push_back(smp.s_mm);
-        ls.push_back(e.lateral_mm);
-        vs.push_back(e.vertical_mm);
-      }
-    };
-    collect(result, run.actual_tcp, s, lat, ver);
+    for (std::size_t i = 0; i < result.samples.size(); ++i) {
+      const auto& smp = result.samples[i];
+      if (smp.seam != k || smp.phase != tk::Phase::Weld) continue;
+      const PointError e = seam_error(cell.truth[k], weld_centre(result, &run.actual_tcp, i));
+      s.push_back(smp.s_mm);
+      lat.push_back(e.lateral_mm);
+      ver.push_back(e.vertical_mm);
+    }
     // Scaled to the errors (the targets, 0.1 mm rms and 0.3 mm max, are
     // drawn when they fit).
     double lim = 0.01;

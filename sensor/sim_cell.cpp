@@ -371,14 +371,18 @@ PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp) {
   return e;
 }
 
+Pose sample_tcp(const tracker::MasterResult& result, const std::vector<Pose>* actual, std::size_t i) {
+  return actual && i < actual->size() ? (*actual)[i] : result.samples[i].world_from_tool;
+}
+
+Vec3 weld_centre(const tracker::MasterResult& result, const std::vector<Pose>* actual, std::size_t i) {
+  return sample_tcp(result, actual, i).translation() - result.samples[i].weave_mm;
+}
+
 std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResult& result,
                                   const std::vector<Pose>* actual) {
   const auto& samples = result.samples;
-  // The weld path's centre at sample i: where the TCP was, less the weave.
-  auto centre = [&](std::size_t i) -> Vec3 {
-    const Vec3 p = actual && i < actual->size() ? (*actual)[i].translation() : samples[i].world_from_tool.translation();
-    return p - samples[i].weave_mm;
-  };
+  auto centre = [&](std::size_t i) { return weld_centre(result, actual, i); };
   std::vector<SeamMetrics> out;
   for (std::size_t k = 0; k < result.seams.size() && k < cell.truth.size(); ++k) {
     const tracker::SeamRun& run = result.seams[k];

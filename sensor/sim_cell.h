@@ -124,6 +124,11 @@ class SeamDistortion {
   double angle_deg() const;
   // The part's rigid motion now (world): where its points have moved to.
   Pose part_motion() const;
+  // update(tcp), then part_motion(): what a sensor scanning the part needs.
+  Pose motion_with_tcp_at(const Vec3& tcp) {
+    update(tcp);
+    return part_motion();
+  }
 
  private:
   const SimCell* cell_;
@@ -172,6 +177,12 @@ struct PointError {
   Vec3 true_point = Vec3::Zero();
 };
 PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp);
+
+// Where the TCP really was at a run's sample i: actual[i] when given (a
+// robot's; RobotSensor::actual()), else the sample's commanded pose; and the
+// weld path's centre there (that less the weave's offset).
+Pose sample_tcp(const tracker::MasterResult& result, const std::vector<Pose>* actual, std::size_t i);
+Vec3 weld_centre(const tracker::MasterResult& result, const std::vector<Pose>* actual, std::size_t i);
 
 // The metrics of a master's run. `actual`: where the TCP really was at each
 // sample (a robot's; RobotSensor::actual()), else the samples' commanded

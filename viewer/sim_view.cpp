@@ -37,9 +37,7 @@ SimView run_sim_for_view(std::uint64_t seed, const std::string& sensor, const st
   std::string label = "sim-box";
   if (!scenario.empty()) {
     try {
-      const Scenario sc = scenario.find('/') != std::string::npos || scenario.ends_with(".yaml")
-                              ? load_scenario(scenario)
-                              : builtin_scenario(scenario);
+      const Scenario sc = find_scenario(scenario);
       spec = sc.spec;
       label = "scenario " + sc.name;
     } catch (const ScenarioError& e) {

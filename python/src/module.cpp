@@ -573,14 +573,7 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
       run = run_sim(sc.spec);
       wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
-    trackio::Json j = sim_summary_json(sc.spec, run, wall_s, wall_s);
-    const std::string reason = scenario_failure(run);
-    j["scenario"] = sc.name;
-    j["description"] = sc.description;
-    j["expect"] = sc.expect_pass ? "pass" : "fail";
-    j["verdict"] = reason.empty() ? "pass" : "fail";
-    j["reason"] = reason;
-    py::dict out = to_python(j);
+    py::dict out = to_python(scenario_summary_json(sc, run, wall_s, wall_s));
     // Per master cycle: time, seam (0-based, -1 after the last), phase, the
     // real TCP, the commanded one, and while welding the errors of the weld
     // path's centre from the true seam (NaN otherwise).
@@ -591,7 +584,8 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
     py::list phase;
     for (py::ssize_t i = 0; i < n; ++i) {
       const auto& s = smp[static_cast<std::size_t>(i)];
-      const Pose actual = static_cast<std::size_t>(i) < run.actual_tcp.size() ? run.actual_tcp[i] : s.world_from_tool;
+      const std::size_t u = static_cast<std::size_t>(i);
+      const Pose actual = sample_tcp(run.result, &run.actual_tcp, u);
       time.mutable_at(i) = s.time_s;
       seam.mutable_at(i) = s.seam;
       phase.append(std::string(tracker::to_string(s.phase)));
@@ -601,7 +595,7 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
       }
       double lat = std::numeric_limits<double>::quiet_NaN(), ver = lat;
       if (s.phase == tracker::Phase::Weld && s.seam >= 0 && s.seam < static_cast<int>(run.cell.truth.size())) {
-        const PointError e = seam_error(run.cell.truth[static_cast<std::size_t>(s.seam)], actual.translation() - s.weave_mm);
+        const PointError e = seam_error(run.cell.truth[static_cast<std::size_t>(s.seam)], weld_centre(run.result, &run.actual_tcp, u));
         lat = e.lateral_mm;
         ver = e.vertical_mm;
       }
