@@ -13,8 +13,9 @@ namespace {
 constexpr std::string_view kSubPixelNames[] = {"cog", "gaussian", "parabolic"};
 constexpr std::string_view kPolicyNames[] = {"strongest", "first", "last", "widest", "continuous"};
 constexpr int kMaxWindowPx = 32;
-// Columns transposed together: 32 uint16 are one 64-byte cache line of a row.
-constexpr int kStripColumns = 32;
+// Columns transposed together: the strip of a 1024-row frame (32 KiB) stays
+// in L1 while it is written (measured: 16 is 2.5x faster than 32, as fast as 8).
+constexpr int kStripColumns = 16;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string number(double v) {
@@ -115,35 +116,38 @@ float column_peaks(const std::uint16_t* v, int n, const Setup& s, std::vector<Pe
   std::uint16_t column_max = 0;
   for (int i = 0; i < n; ++i) column_max = std::max(column_max, v[i]);
   const double t = std::max(s.threshold_dn, s.threshold_rel * column_max);
-  if (column_max <= t) return static_cast<float>(t);
+  // Values are integers: v > t exactly when v > floor(t).
+  const int lit_above = static_cast<int>(std::floor(t));
+  if (column_max <= lit_above) return static_cast<float>(t);
 
   // Runs of lit rows; a run whose maximum is closer than min_separation_px
   // to the previous peak's maximum joins it. While runs are gathered,
   // Peak::row holds the maximum's index (rows from row_first).
   const std::size_t begin = peaks.size();
   for (int i = 0; i < n;) {
-    if (v[i] <= t) {
+    if (v[i] <= lit_above) {
       ++i;
       continue;
     }
     const int first = i;
     int m = i;
-    double sum = 0.0;
-    for (; i < n && v[i] > t; ++i) {
+    std::int64_t sum = 0;
+    for (; i < n && v[i] > lit_above; ++i) {
       if (v[i] > v[m]) m = i;
-      sum += v[i] - t;
+      sum += v[i];
     }
+    const double strength = sum - t * (i - first);
     if (peaks.size() > begin && m - peaks.back().row < s.min_separation_px) {
       Peak& p = peaks.back();
       p.last_row = i - 1;
-      p.strength += static_cast<float>(sum);
+      p.strength += static_cast<float>(strength);
       if (v[m] > p.peak_dn) p.peak_dn = v[m], p.row = static_cast<float>(m);
       continue;
     }
     Peak p;
     p.row = static_cast<float>(m);
     p.peak_dn = v[m];
-    p.strength = static_cast<float>(sum);
+    p.strength = static_cast<float>(strength);
     p.first_row = first;
     p.last_row = i - 1;
     peaks.push_back(p);
@@ -268,7 +272,7 @@ std::string peak_policy_names() { return "strongest, first, last, widest, contin
 void validate(const PeakParams& p, int bits, int height) {
   if (bits != 8 && bits != 10 && bits != 12 && bits != 16) bad("bits", bits, "must be 8, 10, 12 or 16");
   const double fs = full_scale_dn(bits);
-  const std::string depth = " of a " + std::to_string(bits) + "-bit image";
+  const std::string depth = (bits == 8 ? " of an " : " of a ") + std::to_string(bits) + "-bit image";
   if (!(p.threshold_dn >= 0.0 && p.threshold_dn < fs))
     bad("threshold_dn", p.threshold_dn, "must be >= 0 (0: full scale / 16) and below the full scale " + number(fs) + depth);
   if (!(p.threshold_rel >= 0.0 && p.threshold_rel < 1.0))
