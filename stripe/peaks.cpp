@@ -153,11 +153,25 @@ float column_peaks(const std::uint16_t* v, int n, const Setup& s, std::vector<Pe
     peaks.push_back(p);
   }
 
-  // Position, width and saturation of each run long enough; the rest dropped.
+  // Position, width and saturation of each run long enough; the rest
+  // dropped. A run's rows end at the darkest row between it and each
+  // neighbouring run (the valley, excluded), so that a close second peak
+  // does not pull the fit.
   std::size_t kept = begin;
   const int w = s.window_px;
+  int lo_bound = 0;
   for (std::size_t k = begin; k < peaks.size(); ++k) {
     Peak p = peaks[k];
+    int hi_bound = n - 1, next_lo = n;
+    if (k + 1 < peaks.size()) {
+      int valley = p.last_row + 1;
+      for (int i = valley + 1; i < peaks[k + 1].first_row; ++i)
+        if (v[i] < v[valley]) valley = i;
+      hi_bound = valley - 1;
+      next_lo = valley + 1;
+    }
+    const int lo = lo_bound, hi = hi_bound;
+    lo_bound = next_lo;
     if (p.last_row - p.first_row + 1 < s.min_width_px) continue;
     const int m = static_cast<int>(p.row);
     double row = kNaN;
@@ -166,17 +180,17 @@ float column_peaks(const std::uint16_t* v, int n, const Setup& s, std::vector<Pe
       // Plateau rule: the saturated rows around m and both flanks, each
       // down to the threshold or to a rise (another peak's edge): centre of
       // gravity of (value clipped at saturation - threshold).
-      int lo = m, hi = m;
-      while (lo > 0 && v[lo - 1] >= s.saturation_dn) --lo;
-      while (hi < n - 1 && v[hi + 1] >= s.saturation_dn) ++hi;
-      while (lo > 0 && v[lo - 1] > t && v[lo - 1] <= v[lo]) --lo;
-      while (hi < n - 1 && v[hi + 1] > t && v[hi + 1] <= v[hi]) ++hi;
-      row = centre_of_gravity(v, lo, hi, t, s.saturation_dn);
+      int a = m, b = m;
+      while (a > lo && v[a - 1] >= s.saturation_dn) --a;
+      while (b < hi && v[b + 1] >= s.saturation_dn) ++b;
+      while (a > lo && v[a - 1] > t && v[a - 1] <= v[a]) --a;
+      while (b < hi && v[b + 1] > t && v[b + 1] <= v[b]) ++b;
+      row = centre_of_gravity(v, a, b, t, s.saturation_dn);
     } else {
-      const int lo = std::max(0, m - w), hi = std::min(n - 1, m + w);
+      const int a = std::max(lo, m - w), b = std::min(hi, m + w);
       if (s.method != SubPixel::centre_of_gravity)
-        row = parabola_vertex(v, m, lo, hi, s.method == SubPixel::gaussian);
-      if (std::isnan(row)) row = centre_of_gravity(v, lo, hi, t, s.saturation_dn);
+        row = parabola_vertex(v, m, a, b, s.method == SubPixel::gaussian);
+      if (std::isnan(row)) row = centre_of_gravity(v, a, b, t, s.saturation_dn);
     }
     if (std::isnan(row)) row = m;
     p.row = static_cast<float>(row + s.row_first);

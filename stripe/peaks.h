@@ -32,7 +32,8 @@ struct ImageView {
 constexpr int full_scale_dn(int bits) { return (1 << bits) - 1; }
 
 // Sub-pixel position of an unsaturated peak, over the window of rows
-// [m - window_px, m + window_px] around the run's maximum m:
+// [m - window_px, m + window_px] around the run's maximum m (clipped to the
+// rows searched and short of the neighbouring peaks' lit rows):
 enum class SubPixel {
   centre_of_gravity,  // "cog": sum of row * (value - threshold) / sum of (value - threshold)
   gaussian,           // "gaussian": parabola least-squares fitted to ln(value), weights value^2
@@ -70,7 +71,7 @@ struct PeakParams {
   int window_px = 3;  // half width of the sub-pixel window, 1..32 rows
   SubPixel method = SubPixel::gaussian;
   PeakPolicy policy = PeakPolicy::strongest;
-  int min_width_px = 1;  // runs of fewer lit rows (after merging) are dropped; 1..height
+  int min_width_px = 1;  // runs spanning fewer rows (first to last lit row, after merging) are dropped; 1..height
   // Values >= saturation_dn are saturated (plateau rule, docs/PEAKS.md).
   // 0 selects full scale; otherwise threshold < saturation_dn <= full scale.
   double saturation_dn = 0.0;

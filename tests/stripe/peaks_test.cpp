@@ -1,6 +1,7 @@
-// The peak detector on images synthesised here from a formula: per column a
-// Gaussian stripe of known centre and sigma, each pixel the Gaussian's mean
-// over the pixel (erf), so the true sub-pixel centre of every column is known.
+// The peak detector on images synthesised from a formula
+// (tests/common/stripe_image.h): per column a Gaussian stripe of known centre
+// and sigma, each pixel the Gaussian's mean over the pixel (erf), so the true
+// sub-pixel centre of every column is known.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -13,34 +14,17 @@
 #include <vector>
 
 #include "stripe/peaks.h"
+#include "tests/common/stripe_image.h"
 
 namespace {
 
 using namespace vts::stripe;
 
-struct Image {
-  int width, height, bits;
-  std::vector<double> value;  // before rounding and clipping
-
-  Image(int w, int h, int b = 16) : width(w), height(h), bits(b), value(static_cast<std::size_t>(w) * h, 0.0) {}
-
-  // Adds a Gaussian stripe of peak amplitude a_dn, centre mu (row r's pixel
-  // covers [r - 0.5, r + 0.5]) and sigma to column c.
-  void add(int c, double mu, double sigma, double a_dn) {
-    const double k = a_dn * sigma * std::sqrt(M_PI / 2.0);
-    for (int r = 0; r < height; ++r)
-      value[static_cast<std::size_t>(r) * width + c] += k * (std::erf((r + 0.5 - mu) / (M_SQRT2 * sigma)) -
-                                                              std::erf((r - 0.5 - mu) / (M_SQRT2 * sigma)));
-  }
-  double at(int r, int c) const { return value[static_cast<std::size_t>(r) * width + c]; }
-
-  // The pixels: rounded, clipped to [0, full scale].
-  std::vector<std::uint16_t> pixels() const {
-    std::vector<std::uint16_t> p(value.size());
-    const double fs = full_scale_dn(bits);
-    for (std::size_t i = 0; i < p.size(); ++i) p[i] = static_cast<std::uint16_t>(std::clamp(std::round(value[i]), 0.0, fs));
-    return p;
-  }
+// A stripe image and its depth.
+struct Image : vts::test::StripeImage {
+  int bits;
+  Image(int w, int h, int b = 16) : StripeImage(w, h), bits(b) {}
+  std::vector<std::uint16_t> pixels() const { return StripeImage::pixels(bits); }
 };
 
 PeakResult detect(const Image& img, const PeakParams& params) {
@@ -238,6 +222,31 @@ TEST_CASE("continuous follows the stripe through a gap and across a real step", 
   }
 }
 
+TEST_CASE("a close second peak does not pull the fit", "[stripe]") {
+  // Two stripes 5 rows apart, separate runs above the threshold: each
+  // window stops at the darkest row between them.
+  Image img(8, 100);
+  std::vector<double> mu;
+  for (int c = 0; c < img.width; ++c) {
+    mu.push_back(50.0 + c / 8.0);
+    img.add(c, mu[c], 1.0, 20000.0);
+    img.add(c, mu[c] + 5.0, 1.0, 20000.0);
+  }
+  for (SubPixel m : {SubPixel::gaussian, SubPixel::centre_of_gravity}) {
+    PeakParams p = with(m, 3);
+    p.threshold_dn = 6000.0;
+    const auto r = detect(img, p);
+    for (int c = 0; c < img.width; ++c) {
+      INFO(to_string(m) << " column " << c);
+      REQUIRE(r.count(c) == 2);
+      const Peak& a = r.peaks[r.column_offset[c]];
+      const Peak& b = r.peaks[r.column_offset[c] + 1];
+      CHECK(a.row == Approx(mu[c]).margin(m == SubPixel::gaussian ? 0.01 : 0.06));
+      CHECK(b.row == Approx(mu[c] + 5.0).margin(m == SubPixel::gaussian ? 0.01 : 0.06));
+    }
+  }
+}
+
 TEST_CASE("first, last, widest and strongest as defined", "[stripe]") {
   Image img(1, 200);
   img.add(0, 30.0, 1.0, 20000.0);   // first
@@ -304,7 +313,7 @@ TEST_CASE("an empty column has no peak and chosen -1, under every policy", "[str
   }
 }
 
-TEST_CASE("close runs merge into one peak; short runs are dropped; the row range is searched only", "[stripe]") {
+TEST_CASE("close runs merge into one peak, short runs are dropped, the row range is searched only", "[stripe]") {
   // Two maxima 2 rows apart with a dip below the threshold between them.
   const std::uint16_t column[12] = {0, 0, 0, 900, 3000, 900, 3500, 900, 0, 0, 2000, 0};
   PeakParams p;
