@@ -114,6 +114,14 @@ NamedCell load_cell(const std::string& cell, const std::string& scene) {
   return {std::move(*builtin), name};
 }
 
+void check_output_file(const std::string& option, const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) bad(option, path, "is a directory, expected a file name");
+  if (const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+      !dir.empty() && !std::filesystem::is_directory(dir, ec))
+    bad(option, path, "directory '" + dir.string() + "' does not exist");
+}
+
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
   AtomicFile file(path);
   file.stream() << text;

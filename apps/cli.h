@@ -62,6 +62,10 @@ struct NamedCell {
 };
 NamedCell load_cell(const std::string& cell, const std::string& scene);
 
+// An output file option: UsageError "OPTION = 'PATH': ..." when PATH is a
+// directory or its directory does not exist.
+void check_output_file(const std::string& option, const std::string& path);
+
 // Writes `text` to `path` through a temporary file in the same directory,
 // renamed when complete; throws std::runtime_error naming the file.
 void write_text_file(const std::filesystem::path& path, const std::string& text);

@@ -14,6 +14,7 @@
 #include "apps/vts_scan.h"
 #include "apps/vts_score.h"
 #include "apps/vts_mesh.h"
+#include "apps/vts_peaks.h"
 #include "apps/vts_plot.h"
 #include "apps/vts_sensors.h"
 #include "apps/vts_serve.h"
@@ -68,6 +69,8 @@ int run(int argc, char** argv) {
   CLI::App* dataset = vts::apps::add_dataset_command(app, dataset_exit);  // runs from its callback
   int serve_exit = vts::cli::kExitOk;
   CLI::App* serve = vts::apps::add_serve_command(app, serve_exit);  // runs from its callback
+  int peaks_exit = vts::cli::kExitOk;
+  CLI::App* peaks = vts::apps::add_peaks_command(app, peaks_exit);  // runs from its callback
 
   try {
     app.parse(argc, argv);
@@ -96,6 +99,7 @@ int run(int argc, char** argv) {
   if (export_cmd->parsed()) return export_exit;
   if (dataset->parsed()) return dataset_exit;
   if (serve->parsed()) return serve_exit;
+  if (peaks->parsed()) return peaks_exit;
   std::cout << app.help();
   return vts::cli::kExitOk;
 }

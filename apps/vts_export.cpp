@@ -33,10 +33,7 @@ int run_export(const ExportOptions& o) {
                "unknown output type '" + fs::path(o.out).extension().string() +
                    "': expected .csv, .ply or .npz, or give --format csv|ply|npz");
   }
-  std::error_code ec;
-  if (fs::is_directory(o.out, ec)) cli::bad("--out", o.out, "is a directory, expected a file name");
-  if (const fs::path dir = fs::path(o.out).parent_path(); !dir.empty() && !fs::is_directory(dir, ec))
-    cli::bad("--out", o.out, "directory '" + dir.string() + "' does not exist");
+  cli::check_output_file("--out", o.out);
   ProfileRecording rec;
   try {
     rec = read_profile_exr(o.input);

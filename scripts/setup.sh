@@ -9,7 +9,7 @@ packages=(
   libopenexr-dev openexr libembree-dev libtbb-dev
   catch2 libbenchmark-dev
   libimgui-dev libstb-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
-  libassimp-dev libpng-dev xvfb xauth
+  libassimp-dev libpng-dev libopenimageio-dev xvfb xauth
   zlib1g-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-openimageio openimageio-tools
   python3-distributed

@@ -11,7 +11,7 @@ endfunction()
 run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix --component dev)
 # The tracker alone: every other dependency of vts made unfindable.
 set(no_deps)
-foreach(p TBB nlohmann_json yaml-cpp OpenEXR embree assimp PkgConfig)
+foreach(p TBB nlohmann_json yaml-cpp OpenEXR embree assimp OpenImageIO PkgConfig)
   list(APPEND no_deps -DCMAKE_DISABLE_FIND_PACKAGE_${p}=ON)
 endforeach()
 foreach(proj tracker_only full)

@@ -1,13 +1,21 @@
 // Tracks a hand-made 90-degree fillet (two lines at +-45 degrees meeting at
 // (1.5, 120) mm) with the installed tracker; exit 0 when the root is found
-// within 0.05 mm.
+// within 0.05 mm and the stripe detector finds a 3-row peak centred on row 10.
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "stripe/peaks.h"
 #include "tracker/tracker.h"
 
 int main() {
+  const std::uint16_t column[20] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 2000, 4000, 2000};
+  vts::stripe::PeakResult peaks;
+  vts::stripe::detect_peaks({column, 1, 20, 1, 12}, {}, peaks);
+  if (!peaks.chosen_peak(0) || std::abs(peaks.chosen_peak(0)->row - 10.0f) > 1e-4f) {
+    std::printf("stripe peak not found at row 10\n");
+    return 1;
+  }
   const int n = 400;
   std::vector<float> y(n), z(n);
   std::vector<std::uint8_t> valid(n, 1);
