@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 struct PeaksOptions {
   std::string input, out, profile, sensor, row_offset;
   std::string threshold, threshold_rel, method, policy, window, min_width, min_separation, saturation, rows,
-      max_jump, jump_cost, miss_cost, bits;
+      max_jump, jump_cost, miss_cost, brightness_weight, bits;
 };
 
 // stripe::validate's message "FIELD = VALUE: why" with the option in place of the field.
@@ -36,7 +36,7 @@ std::string with_option_name(const std::string& message) {
       {"threshold_dn", "--threshold"},  {"threshold_rel", "--threshold-rel"}, {"window_px", "--window"},
       {"min_width_px", "--min-width"},  {"saturation_dn", "--saturation"},    {"min_separation_px", "--min-separation"},
       {"row_first", "--rows FIRST"},    {"row_last", "--rows LAST"},          {"max_jump_px", "--max-jump"},
-      {"jump_cost", "--jump-cost"},     {"miss_cost", "--miss-cost"}};
+      {"jump_cost", "--jump-cost"},     {"miss_cost", "--miss-cost"},         {"brightness_weight", "--brightness-weight"}};
   for (const auto& [field, option] : names)
     if (message.rfind(std::string(field) + " = ", 0) == 0) return option + message.substr(std::strlen(field));
   return message;
@@ -72,6 +72,8 @@ int run_peaks(const PeaksOptions& o) {
   if (!o.max_jump.empty()) params.max_jump_px = cli::parse_number("--max-jump", o.max_jump, "px");
   if (!o.jump_cost.empty()) params.jump_cost = cli::parse_number("--jump-cost", o.jump_cost, "");
   if (!o.miss_cost.empty()) params.miss_cost = cli::parse_number("--miss-cost", o.miss_cost, "");
+  if (!o.brightness_weight.empty())
+    params.brightness_weight = cli::parse_number("--brightness-weight", o.brightness_weight, "");
   int bits = 0;
   if (!o.bits.empty()) {
     bits = static_cast<int>(cli::parse_integer("--bits", o.bits, 8, 16));
@@ -182,10 +184,13 @@ CLI::App* add_peaks_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--rows", o->rows, "Search only image rows FIRST..LAST (default: all)")->type_name("FIRST:LAST");
   cmd->add_option("--max-jump", o->max_jump, "continuous: free row change between columns (default 4)")
       ->type_name("PX");
-  cmd->add_option("--jump-cost", o->jump_cost, "continuous: cost per row beyond --max-jump (default 0.05)")
+  cmd->add_option("--jump-cost", o->jump_cost, "continuous: cost per row beyond --max-jump (default 0.5)")
       ->type_name("C");
-  cmd->add_option("--miss-cost", o->miss_cost, "continuous: cost of a column left without its peaks (default 0.5)")
+  cmd->add_option("--miss-cost", o->miss_cost, "continuous: cost of a column left without its peaks (default 1)")
       ->type_name("C");
+  cmd->add_option("--brightness-weight", o->brightness_weight,
+                  "continuous: a chosen peak scores 1 + this x its value over full scale (default 0.1)")
+      ->type_name("W");
   cmd->add_option("--bits", o->bits, "The image's depth, 8, 10, 12 or 16, when the file does not say it")
       ->type_name("N");
   cmd->add_option("--sensor", o->sensor,

@@ -61,6 +61,14 @@ ScanPlan plan_scan(const ScanOptions& o) {
     bad("--material", o.material,
         "unknown material; valid names: " + join_names(material_names()) + " (see `vts sensors`)");
   if (o.ideal) scanner.ideal = true;
+  if (o.camera_image) {
+    if (o.ideal) bad("--camera-image", "", "cannot be combined with --ideal (the image has no ideal mode)");
+    scanner.camera_image = true;
+  }
+  if (!o.images.empty()) {
+    if (!scanner.camera_image) bad("--images", o.images, "needs --camera-image (the images are its)");
+    spec.images_dir = o.images;
+  }
 
   if (!o.standoff.empty()) {
     if (!o.scene.empty())
@@ -137,7 +145,12 @@ void report(const ScanPlan& plan, const ScanStats& stats) {
               std::string(to_string(spec.source)).c_str(), stats.valid_percent(),
               static_cast<long long>(stats.samples), stats.mean_range_mm(), t, t > 0 ? n / t : 0.0);
   auto ll = [](std::int64_t v) { return static_cast<long long>(v); };
-  if (!scanner.ideal) {
+  if (!scanner.ideal && scanner.camera_image) {
+    std::printf("camera image (%s, %s, seed %llu): profiles read from the rendered stripe, peaks by %s, %s%s%s\n",
+                scanner.name.c_str(), scanner.material.c_str(), static_cast<unsigned long long>(spec.seed),
+                scanner.peak_method.c_str(), scanner.peak_policy.c_str(),
+                spec.images_dir.empty() ? "" : "; images and labels in ", spec.images_dir.string().c_str());
+  } else if (!scanner.ideal) {
     const ScanState& s = stats.error_model;
     std::printf(
         "error model (%s, %s, seed %llu): of %lld lit points %lld measured; lost: %lld camera "
@@ -220,6 +233,15 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
   scan->add_flag("--ideal", o.ideal,
                  "Error model off: write the ideal geometric profiles (no camera, noise, "
                  "quantization, shadow, outliers or dropouts)");
+  scan->add_flag("--camera-image", o.camera_image,
+                 "Profiles from the camera's image instead of the error model: the stripe rendered "
+                 "as the sensor's camera sees it (sheet thickness, reflectance, one bounce of "
+                 "laser light, speckle, noise, saturation) and its peaks detected per column "
+                 "(docs/SENSOR_MODEL.md, \"The camera image\")");
+  scan->add_option("--images", o.images,
+                   "With --camera-image: also write each profile's image (PNG) and its labels "
+                   "(CSV: true stripe row, bounce, which peak is true, which was chosen) into DIR")
+      ->type_name("DIR");
   scan->add_option("--out", o.out,
                    "Output profile file (EXR, docs/EXR_FORMAT.md). Default: <cell name>.exr in "
                    "the current directory")

@@ -31,6 +31,8 @@ struct ScanOptions {
   std::string compression;
   bool reference = false;
   bool ideal = false;
+  bool camera_image = false;
+  std::string images;
 };
 
 // Adds the `scan` subcommand to app; the options are written into opts.

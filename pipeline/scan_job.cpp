@@ -1,5 +1,7 @@
 #include "pipeline/scan_job.h"
 
+#include "sensor/camera_image_file.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -57,6 +59,14 @@ ScanStats run_scan_job(const ScanSpec& spec, ScanSink& sink, const ScanCallbacks
   const std::int64_t n = cell.path.profiles;
   // Sources first: a GL failure must not leave anything behind.
   ScanSession session(cell.scanner, cell.mesh(), spec.source, spec.with_reference, spec.seed);
+  if (!spec.images_dir.empty()) {
+    if (!session.image_mode())
+      throw std::invalid_argument("images: the camera images exist only in image mode (--camera-image)");
+    std::error_code ec;
+    std::filesystem::create_directories(spec.images_dir, ec);
+    if (ec) throw std::runtime_error("cannot create " + spec.images_dir.string() + ": " + ec.message());
+    session.keep_images(true);
+  }
   sink.begin(scan_file_info(spec));
 
   const auto start = std::chrono::steady_clock::now();
@@ -103,6 +113,7 @@ ScanStats run_scan_job(const ScanSpec& spec, ScanSink& sink, const ScanCallbacks
     ScanBatch out{first, r.output(), {}};
     if (spec.with_reference) out.reference = session.has_reference_source() ? r.output_ref() : out.profiles;
     sink.write(out);
+    for (const CameraImage& image : r.images) write_camera_image(spec.images_dir, image);
     for (std::int64_t i = 0; i < count; ++i)
       add(stats, out.profiles[i], r.ideal[i], session.has_reference_source() ? &r.ideal_ref[i] : nullptr);
     stats.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -11,6 +11,7 @@
 // parallel work shares the thread limit's pool). No signal handling here: a front-end maps its signals (or a client's
 // `cancel`) to ScanCallbacks::cancelled.
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <span>
 #include <stdexcept>
@@ -33,6 +34,9 @@ struct ScanSpec {
   bool with_reference = false;  // also the Embree reference beside them, and the check of the two
   std::uint64_t seed = 0;       // the error model's draws
   int batch_profiles = 512;     // profiles per batch: memory is bounded by it
+  // Image mode (cell.scanner.camera_image): also write each profile's camera
+  // image and its labels here (sensor/camera_image_file.h); empty: none.
+  std::filesystem::path images_dir;
 };
 
 // One batch as the job hands it to a sink: profiles first .. first + n - 1

@@ -5,7 +5,9 @@
 #include <string>
 
 #include "common/parallel.h"
+#include "render/camera_renderer.h"
 #include "render/raster_source.h"
+#include "sensor/ray_scene.h"
 #include "sensor/reference_source.h"
 
 namespace vts {
@@ -26,9 +28,49 @@ ScanSession::ScanSession(const ScannerDesc& scanner, const Mesh& mesh_world, Sou
     : scanner_(scanner), main_kind_(main), seed_(seed) {
   main_ = make_source(main, scanner, mesh_world);
   if (with_reference && main == SourceKind::Raster) reference_ = make_source(SourceKind::Reference, scanner, mesh_world);
+  if (image_mode()) {
+    mesh_ = mesh_world;
+    ray_scene_ = std::make_unique<RayScene>(mesh_world, "camera image");
+  }
 }
 
+// One part's renderer (its own OpenGL context) and scratch.
+struct ScanSession::ImageWorker {
+  std::unique_ptr<CameraRenderer> renderer;
+  RadianceImage radiance;
+  LaserPaths paths;
+  CameraImage image;
+  stripe::PeakResult peaks;
+};
+
 ScanSession::~ScanSession() = default;
+
+void ScanSession::scan_images(std::span<const ScanRequest> requests, ScanResults& out) {
+  const std::size_t count = requests.size();
+  out.images.resize(keep_images_ ? count : 0);
+  const std::size_t parts = std::clamp<std::size_t>(count, 1, static_cast<std::size_t>(thread_limit()));
+  while (image_workers_.size() < parts) image_workers_.push_back(std::make_unique<ImageWorker>());
+  parallel_for(parts, [&](std::size_t t) {
+    ImageWorker& w = *image_workers_[t];
+    if (!w.renderer) {
+      try {
+        w.renderer = std::make_unique<CameraRenderer>(scanner_, mesh_);
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error(std::string("cannot create the camera-image renderer (OSMesa): ") + e.what());
+      }
+    }
+    for (std::size_t k = count * t / parts, end = count * (t + 1) / parts; k < end; ++k) {
+      const ScanRequest& r = requests[k];
+      CameraImage& image = keep_images_ ? out.images[k] : w.image;
+      w.renderer->render(r.world_from_sensor, w.radiance);
+      trace_laser_paths(scanner_, *ray_scene_, r.world_from_sensor, w.paths);
+      form_image(scanner_, w.radiance, w.paths, seed_, r.index, image);
+      detect_stripe(scanner_, image, w.peaks);
+      profile_from_peaks(scanner_, image, w.peaks, out.ideal[k], out.measured[k]);
+      if (reference_) profile_from_peaks(scanner_, image, w.peaks, out.ideal_ref[k], out.measured_ref[k]);
+    }
+  });
+}
 
 void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) {
   const std::size_t count = requests.size();
@@ -50,6 +92,10 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
     }
   }
   if (!model || count == 0) return;
+  if (image_mode()) {
+    scan_images(requests, out);
+    return;
+  }
 
   // The draws are keyed by profile index, so both sources see the same ones
   // and splitting a batch over threads changes nothing; each part has its

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sensor/camera_image.h"
 #include "sensor/error_model.h"
 #include "sensor/mesh.h"
 #include "sensor/pose.h"
@@ -19,6 +20,8 @@
 #include "sensor/scanner.h"
 
 namespace vts {
+
+class RayScene;
 
 enum class SourceKind {
   Raster,     // the OSMesa emulator (render/raster_source.h)
@@ -48,6 +51,9 @@ struct ScanResults {
   std::vector<Profile> measured;      // through the error model; empty when the scanner is ideal
   std::vector<Profile> ideal_ref;     // the reference's, when the session has one
   std::vector<Profile> measured_ref;  // its measured ones (same draws), when it has one and a model
+  // Image mode (scanner.camera_image) with keep_images: the camera image
+  // request k's profile was read from, labelled (sensor/camera_image.h).
+  std::vector<CameraImage> images;
 
   // What the sensor gives for request k: measured, or ideal with the error
   // model off.
@@ -66,6 +72,12 @@ class ScanSession {
   ~ScanSession();
   ScanSession(const ScanSession&) = delete;
   ScanSession& operator=(const ScanSession&) = delete;
+
+  // Image mode (scanner.camera_image, not ideal): profiles come from the
+  // camera image (render/camera_renderer.h, sensor/camera_image.h) instead
+  // of the error model; with keep_images the images are returned too.
+  void keep_images(bool keep) { keep_images_ = keep; }
+  bool image_mode() const { return scanner_.camera_image && !scanner_.ideal; }
 
   // Scans every request into `out` (resized to requests.size()). Not
   // thread-safe: one batch at a time per session.
@@ -87,6 +99,14 @@ class ScanSession {
   std::unique_ptr<ProfileSource> main_, reference_;
   std::vector<Pose> poses_;
   std::vector<ScanState> states_, states_ref_;  // per part of a batch: scratch and counters
+  // Image mode: the mesh (renderers are made on first use, one per part),
+  // the Embree scene for the laser's bounce, and each part's worker.
+  struct ImageWorker;
+  Mesh mesh_;
+  std::unique_ptr<RayScene> ray_scene_;
+  std::vector<std::unique_ptr<ImageWorker>> image_workers_;
+  bool keep_images_ = false;
+  void scan_images(std::span<const ScanRequest> requests, ScanResults& out);
 };
 
 }  // namespace vts

@@ -25,6 +25,7 @@
 
 #include "common/parallel.h"
 #include "render/gl_context.h"
+#include "render/gl_program.h"
 #include "sensor/error_model.h"
 #include "sensor/mesh_bvh.h"
 #include "sensor/planar_merge.h"
@@ -66,74 +67,6 @@ constexpr double kShadowSheetMm = 0.5;
 constexpr int kMinShadowRun = 16;
 constexpr int kMaxShadowRun = 1024;
 constexpr int kFloatFilterColumns = 8;
-
-std::string shader_log(GLuint shader) {
-  GLint length = 0;
-  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-  glGetShaderInfoLog(shader, length, nullptr, log.data());
-  log.resize(std::char_traits<char>::length(log.c_str()));
-  return log;
-}
-
-std::string program_log(GLuint program) {
-  GLint length = 0;
-  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-  glGetProgramInfoLog(program, length, nullptr, log.data());
-  log.resize(std::char_traits<char>::length(log.c_str()));
-  return log;
-}
-
-GLuint compile_shader(GLenum type, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    const std::string log = shader_log(shader);
-    glDeleteShader(shader);
-    throw std::runtime_error(std::string("raster source: shader ") + name +
-                             " failed to compile:\n" + log);
-  }
-  return shader;
-}
-
-GLuint link_program(const char* vert_source, const char* vert_name, const char* frag_source,
-                    const char* frag_name) {
-  const GLuint vert = compile_shader(GL_VERTEX_SHADER, vert_source, vert_name);
-  GLuint frag = 0;
-  try {
-    frag = compile_shader(GL_FRAGMENT_SHADER, frag_source, frag_name);
-  } catch (...) {
-    glDeleteShader(vert);
-    throw;
-  }
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vert);
-  glAttachShader(program, frag);
-  glLinkProgram(program);
-  glDeleteShader(vert);
-  glDeleteShader(frag);
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    const std::string log = program_log(program);
-    glDeleteProgram(program);
-    throw std::runtime_error(std::string("raster source: ") + vert_name + " + " + frag_name +
-                             " failed to link:\n" + log);
-  }
-  return program;
-}
-
-void check_gl(const char* what) {
-  const GLenum error = glGetError();
-  if (error == GL_NO_ERROR) return;
-  char code[16];
-  std::snprintf(code, sizeof code, "0x%04x", error);
-  throw std::runtime_error(std::string("raster source: GL error ") + code + " after " + what);
-}
 
 // The mesh as the workers use it: non-degenerate triangles only, in a frame
 // centred on the mesh (so float keeps precision far from the world origin),
@@ -747,7 +680,7 @@ class Worker {
     const std::size_t slots = static_cast<std::size_t>(rows_) * n;
     readback_.resize(slots);
 
-    program_ = link_program(shaders::raster_vert, "raster.vert", shaders::raster_frag, "raster.frag");
+    program_ = link_program("raster source", shaders::raster_vert, "raster.vert", shaders::raster_frag, "raster.frag");
     glUseProgram(program_);
 
     // The per-pass vertex stream: position, then (row, triangle) as integers.
@@ -794,7 +727,7 @@ class Worker {
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glDisable(GL_DITHER);
-    check_gl("creating the raster pipeline");
+    check_gl("raster source", "creating the raster pipeline");
     // The context is private to this worker, so all this state stays bound.
   }
 

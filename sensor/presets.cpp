@@ -51,6 +51,8 @@ ScannerDesc lps_2048_short() {
   d.image_height_px = 1088;
   d.subpixel_step_px = 0.0625;
   d.intensity_ref_range_mm = 80.0;
+  d.sheet_waist_mm = 0.03;  // a thin line focused mid-range
+  d.sheet_focus_mm = 80.0;
   return d;
 }
 
@@ -76,6 +78,8 @@ ScannerDesc lps_1280_mid() {
   d.image_height_px = 1024;
   d.subpixel_step_px = 0.0625;
   d.intensity_ref_range_mm = 170.0;
+  d.sheet_waist_mm = 0.06;
+  d.sheet_focus_mm = 200.0;
   return d;
 }
 
@@ -100,19 +104,22 @@ struct Material {
   double shiny_min_mm, shiny_max_mm;
   double rough_prob, rough_min_mm, rough_max_mm;
   double drop_normal, drop_grazing;
+  // The camera image's surface (sensor/camera_image.h): specular share,
+  // lobe width (deg), speckle contrast.
+  double specular, lobe_deg, speckle_contrast;
 };
 
 constexpr Material kMaterials[] = {
     {"matte-steel", "blasted or matte mild steel: mild speckle, rare reflections (default)",
-     0.1, 0.5, 0.0005, 4, 0.5, 3.0, 0.0002, 0.1, 0.5, 0.001, 0.05},
+     0.1, 0.5, 0.0005, 4, 0.5, 3.0, 0.0002, 0.1, 0.5, 0.001, 0.05, 0.05, 8.0, 0.5},
     {"shiny-steel", "ground or stainless steel: reflection clusters, weaker diffuse return",
-     0.15, 0.3, 0.004, 8, 0.5, 5.0, 0.0005, 0.1, 0.5, 0.002, 0.3},
+     0.15, 0.3, 0.004, 8, 0.5, 5.0, 0.0005, 0.1, 0.5, 0.002, 0.3, 0.5, 2.0, 0.6},
     {"aluminium", "bright aluminium: frequent long reflection clusters, dropouts at grazing",
-     0.2, 0.25, 0.01, 10, 0.5, 8.0, 0.001, 0.1, 0.5, 0.005, 0.5},
+     0.2, 0.25, 0.01, 10, 0.5, 8.0, 0.001, 0.1, 0.5, 0.005, 0.5, 0.7, 1.5, 0.6},
     {"rough", "mill scale or rough cut surface: strong speckle, isolated rough-surface outliers",
-     0.25, 0.4, 0.0, 4, 0.5, 3.0, 0.01, 0.1, 1.0, 0.005, 0.1},
+     0.25, 0.4, 0.0, 4, 0.5, 3.0, 0.01, 0.1, 1.0, 0.005, 0.1, 0.0, 20.0, 0.7},
     {"lambertian", "ideal diffuse surface: no speckle, outliers or dropouts (geometry only)",
-     0.0, 1.0, 0.0, 1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+     0.0, 1.0, 0.0, 1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, 0.0},
 };
 
 }  // namespace
@@ -154,6 +161,27 @@ void set_sensor_fields(ScannerDesc& d, const ScannerDesc& p) {
   d.image_height_px = p.image_height_px;
   d.subpixel_step_px = p.subpixel_step_px;
   d.intensity_ref_range_mm = p.intensity_ref_range_mm;
+  d.scheimpflug_deg = p.scheimpflug_deg;
+  d.f_number = p.f_number;
+  d.wavelength_nm = p.wavelength_nm;
+  d.psf_sigma_px = p.psf_sigma_px;
+  d.laser_power_mw = p.laser_power_mw;
+  d.sheet_waist_mm = p.sheet_waist_mm;
+  d.sheet_focus_mm = p.sheet_focus_mm;
+  d.sheet_m2 = p.sheet_m2;
+  d.exposure_us = p.exposure_us;
+  d.gain = p.gain;
+  d.quantum_efficiency = p.quantum_efficiency;
+  d.full_well_e = p.full_well_e;
+  d.read_noise_e = p.read_noise_e;
+  d.dark_offset_dn = p.dark_offset_dn;
+  d.image_bits = p.image_bits;
+  d.image_roi_first_row = p.image_roi_first_row;
+  d.image_roi_rows = p.image_roi_rows;
+  d.peak_threshold_dn = p.peak_threshold_dn;
+  d.peak_window_px = p.peak_window_px;
+  d.peak_method = p.peak_method;
+  d.peak_policy = p.peak_policy;
 }
 
 std::vector<std::string> material_names() {
@@ -183,6 +211,9 @@ bool apply_material(ScannerDesc& d, std::string_view name) {
     d.rough_offset_max_mm = m.rough_max_mm;
     d.dropout_prob_normal = m.drop_normal;
     d.dropout_prob_grazing = m.drop_grazing;
+    d.specular_reflectance = m.specular;
+    d.specular_lobe_deg = m.lobe_deg;
+    d.speckle_contrast = m.speckle_contrast;
     return true;
   }
   return false;

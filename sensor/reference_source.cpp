@@ -14,49 +14,11 @@
 
 #include "common/parallel.h"
 #include "sensor/error_model.h"
+#include "sensor/ray_scene.h"
 #include "sensor/rays.h"
 
 namespace vts {
 namespace {
-
-// Embree reports the message through a callback on the thread that failed;
-// rtcGetDeviceError only gives the code.
-thread_local std::string t_embree_message;
-
-void on_embree_error(void*, RTCError, const char* message) {
-  t_embree_message = message ? message : "";
-}
-
-const char* error_name(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
-    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
-    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
-    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
-    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
-    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
-  }
-  return "RTC_ERROR_?";
-}
-
-void check(RTCDevice device, const char* what) {
-  const RTCError code = rtcGetDeviceError(device);
-  if (code == RTC_ERROR_NONE) return;
-  std::string msg = std::string("Embree: ") + what + " failed: " + error_name(code);
-  if (!t_embree_message.empty()) msg += ": " + t_embree_message;
-  t_embree_message.clear();
-  throw std::runtime_error(msg);
-}
-
-struct DeviceDeleter {
-  void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
-};
-struct SceneDeleter {
-  void operator()(RTCScene s) const { rtcReleaseScene(s); }
-};
-using DevicePtr = std::unique_ptr<std::remove_pointer_t<RTCDevice>, DeviceDeleter>;
-using ScenePtr = std::unique_ptr<std::remove_pointer_t<RTCScene>, SceneDeleter>;
 
 constexpr int kPacket = 16;
 // Below this many profiles per thread a batch is scanned on the calling thread.
@@ -66,10 +28,10 @@ class ReferenceSource final : public ProfileSource {
  public:
   ReferenceSource(const ScannerDesc& desc, const Mesh& mesh, int threads)
       : threads_(static_cast<std::size_t>(threads > 0 ? std::min(threads, thread_limit()) : thread_limit())),
-        desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm) {
+        desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm),
+        scene_(mesh, "reference source") {
     dirs_d_.reserve(dirs_.size());
     for (const auto& d : dirs_) dirs_d_.push_back(d.cast<double>());
-    build_scene(mesh);
   }
 
   void scan(const Pose& world_from_sensor, Profile& out) override {
@@ -90,57 +52,6 @@ class ReferenceSource final : public ProfileSource {
 
  private:
   std::size_t threads_;  // most threads a batch is spread over
-
-  void build_scene(const Mesh& mesh) {
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-      for (std::uint32_t v : mesh.triangles[t])
-        if (v >= mesh.vertices.size())
-          throw std::invalid_argument("reference source: triangle " + std::to_string(t) +
-                                      " uses vertex " + std::to_string(v) + " but the mesh has " +
-                                      std::to_string(mesh.vertices.size()) + " vertices");
-
-    // The thread limit (common/parallel.h) bounds Embree's own threads too.
-    const std::string config = embree_device_config();
-    device_.reset(rtcNewDevice(config.empty() ? nullptr : config.c_str()));
-    if (!device_) check(nullptr, "rtcNewDevice");
-    rtcSetDeviceErrorFunction(device_.get(), on_embree_error, nullptr);
-
-    scene_.reset(rtcNewScene(device_.get()));
-    check(device_.get(), "rtcNewScene");
-    // ROBUST: without it rays lying exactly in the plane of a row of mesh
-    // edges slip between the triangles (docs: shared/notes/stack.md).
-    rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
-    check(device_.get(), "scene setup");
-
-    // Embree rejects zero-sized buffers; an empty scene simply misses.
-    if (!mesh.vertices.empty() && !mesh.triangles.empty()) {
-      RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-      check(device_.get(), "rtcNewGeometry");
-      rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-          mesh.vertices.size()));
-      auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-          geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-          mesh.triangles.size()));
-      if (!v || !idx) {
-        rtcReleaseGeometry(geom);
-        check(device_.get(), "rtcSetNewGeometryBuffer");
-        throw std::runtime_error("Embree: rtcSetNewGeometryBuffer returned no buffer");
-      }
-      for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-        for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
-      for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-        for (int k = 0; k < 3; ++k) idx[3 * i + k] = mesh.triangles[i][k];
-      rtcCommitGeometry(geom);
-      rtcAttachGeometry(scene_.get(), geom);
-      rtcReleaseGeometry(geom);
-      check(device_.get(), "geometry setup");
-    }
-    rtcCommitScene(scene_.get());
-    check(device_.get(), "rtcCommitScene");
-  }
 
   void scan_one(const Pose& world_from_sensor, Profile& out) const {
     const int n = desc_.points;
@@ -177,7 +88,7 @@ class ReferenceSource final : public ProfileSource {
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
-      rtcIntersect16(valid, scene_.get(), &context, &rh);
+      rtcIntersect16(valid, scene_.scene(), &context, &rh);
       const int count = std::min(kPacket, n - base);
       for (int k = 0; k < count; ++k) {
         const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
@@ -192,7 +103,7 @@ class ReferenceSource final : public ProfileSource {
         set_column(desc_, dirs_[base + k], base + k, t, out, cos_incidence);
       }
     }
-    check(device_.get(), "rtcIntersect16");
+    scene_.check("rtcIntersect16");
     if (!desc_.ideal) cast_shadow_rays(world_from_sensor, out);
   }
 
@@ -223,7 +134,7 @@ class ReferenceSource final : public ProfileSource {
         ray.dir_z[k] = 1.0f;
         ray.tnear[k] = ray.tfar[k] = ray.time[k] = 0.0f;
       }
-      rtcOccluded16(valid, scene_.get(), &context, &ray);
+      rtcOccluded16(valid, scene_.scene(), &context, &ray);
       for (int k = 0; k < count; ++k)
         if (ray.tfar[k] < 0.0f) out.camera_visible[columns[k]] = 0;
       count = 0;
@@ -254,15 +165,14 @@ class ReferenceSource final : public ProfileSource {
       if (++count == kPacket) flush();
     }
     if (count > 0) flush();
-    check(device_.get(), "rtcOccluded16");
+    scene_.check("rtcOccluded16");
   }
 
   ScannerDesc desc_;
   std::vector<Eigen::Vector3f> dirs_;  // sensor frame, unit, as cast
   std::vector<Eigen::Vector3d> dirs_d_;  // the same, widened for the rotation
   Eigen::Vector3d camera_centre_;        // sensor frame, mm
-  DevicePtr device_;
-  ScenePtr scene_;  // declared after device_: released first
+  RayScene scene_;
 };
 
 }  // namespace

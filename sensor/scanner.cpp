@@ -1,7 +1,10 @@
 #include "sensor/scanner.h"
 
+#include "stripe/peaks.h"
+
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace vts {
 namespace {
@@ -75,6 +78,43 @@ std::string validate(const ScannerDesc& d) {
     return bad("dropout_prob_normal", d.dropout_prob_normal, "must be between 0 and 1");
   if (!probability(d.dropout_prob_grazing))
     return bad("dropout_prob_grazing", d.dropout_prob_grazing, "must be between 0 and 1");
+  // The camera image's fields (sensor/camera_image.h).
+  if (!std::isfinite(d.scheimpflug_deg) || std::abs(d.scheimpflug_deg) >= 45.0)
+    return bad("scheimpflug_deg", d.scheimpflug_deg, "must be between -45 and 45 degrees");
+  const std::pair<const char*, double> positive[] = {
+      {"f_number", d.f_number},           {"wavelength_nm", d.wavelength_nm},
+      {"laser_power_mw", d.laser_power_mw}, {"sheet_waist_mm", d.sheet_waist_mm},
+      {"sheet_focus_mm", d.sheet_focus_mm}, {"exposure_us", d.exposure_us},
+      {"gain", d.gain},                   {"full_well_e", d.full_well_e}};
+  for (const auto& [field, v] : positive)
+    if (!finite_positive(v)) return bad(field, v, "must be > 0");
+  if (!std::isfinite(d.sheet_m2) || d.sheet_m2 < 1.0) return bad("sheet_m2", d.sheet_m2, "must be >= 1");
+  const std::pair<const char*, double> non_negative[] = {
+      {"psf_sigma_px", d.psf_sigma_px},   {"read_noise_e", d.read_noise_e},
+      {"dark_offset_dn", d.dark_offset_dn}, {"ambient_w_m2", d.ambient_w_m2},
+      {"specular_lobe_deg", d.specular_lobe_deg}, {"speckle_contrast", d.speckle_contrast},
+      {"peak_threshold_dn", d.peak_threshold_dn}};
+  for (const auto& [field, v] : non_negative)
+    if (!std::isfinite(v) || v < 0.0) return bad(field, v, "must be >= 0");
+  if (!probability(d.quantum_efficiency))
+    return bad("quantum_efficiency", d.quantum_efficiency, "must be between 0 and 1");
+  if (!probability(d.specular_reflectance) || d.specular_reflectance + d.reflectivity > 1.0 + 1e-9)
+    return bad("specular_reflectance", d.specular_reflectance,
+               "must be between 0 and 1, and with reflectivity at most 1");
+  if (d.specular_reflectance > 0.0 && d.specular_lobe_deg <= 0.0)
+    return bad("specular_lobe_deg", d.specular_lobe_deg, "must be > 0 when specular_reflectance > 0");
+  if (d.image_bits != 8 && d.image_bits != 10 && d.image_bits != 12 && d.image_bits != 16)
+    return bad("image_bits", d.image_bits, "must be 8, 10, 12 or 16");
+  if (d.image_roi_first_row < 0 || d.image_roi_first_row >= d.image_height_px)
+    return bad("image_roi_first_row", d.image_roi_first_row, "must be a row of the image");
+  if (d.image_roi_rows < 0 || d.image_roi_first_row + d.image_roi_rows > d.image_height_px)
+    return bad("image_roi_rows", d.image_roi_rows, "must be >= 0 and end inside the image");
+  if (d.peak_window_px < 1 || d.peak_window_px > 32)
+    return bad("peak_window_px", d.peak_window_px, "must be between 1 and 32");
+  if (!stripe::parse_sub_pixel(d.peak_method))
+    return "peak_method = '" + d.peak_method + "': must be one of " + stripe::sub_pixel_names();
+  if (!stripe::parse_peak_policy(d.peak_policy))
+    return "peak_policy = '" + d.peak_policy + "': must be one of " + stripe::peak_policy_names();
   return {};
 }
 

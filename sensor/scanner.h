@@ -66,8 +66,41 @@ struct ScannerDesc {
   double dropout_prob_normal = 0.001;   // dropout probability at normal incidence,
   double dropout_prob_grazing = 0.05;   // rising as sin^4(incidence) to this at 90 deg
 
+  // Camera image (the third mode, `vts scan --camera-image`; sensor/camera_image.h,
+  // docs/SENSOR_MODEL.md "The camera image"): the camera's view of the part lit
+  // by the laser sheet, rendered, then the stripe's peak found per image column.
+  double scheimpflug_deg = 0.0;     // image plane tilt about the image's v axis (0: none)
+  double f_number = 2.5;            // lens aperture N (speckle grain, image irradiance)
+  double wavelength_nm = 660.0;     // laser wavelength
+  double psf_sigma_px = 1.2;        // lens blur, Gaussian std dev across the stripe, px
+  double laser_power_mw = 20.0;     // optical power in the fan
+  double sheet_waist_mm = 0.1;      // sheet's 1/e^2 half thickness at its waist
+  double sheet_focus_mm = 200.0;    // range of the waist
+  double sheet_m2 = 1.3;            // beam quality M^2: divergence M^2 lambda / (pi waist)
+  double exposure_us = 10.0;        // exposure time
+  double gain = 4.0;                // DN per electron = gain (2^bits - 1) / full_well_e
+  double quantum_efficiency = 0.5;  // electrons per photon at the laser wavelength
+  double full_well_e = 10000.0;     // electrons at which the pixel saturates (gain 1)
+  double read_noise_e = 20.0;       // read noise, electrons rms
+  double dark_offset_dn = 1.0;      // black level, DN
+  double ambient_w_m2 = 0.5;        // ambient irradiance on the part inside the filter band
+  int image_bits = 8;               // 8, 10, 12 or 16
+  int image_roi_first_row = 0;      // region of interest: first image row read out
+  int image_roi_rows = 0;           // and how many (0: the full frame)
+  bool image_noise = true;          // shot and read noise (off: each pixel's expected value)
+  double specular_reflectance = 0.0;  // surface: the specular lobe's share of the light
+  double specular_lobe_deg = 3.0;     // surface: the lobe's std dev around the mirror direction
+  double speckle_contrast = 0.5;      // surface: std/mean of the stripe's brightness per grain
+  // The peak detector (stripe/peaks.h) that turns each image into a profile.
+  double peak_threshold_dn = 0.0;   // DN a stripe pixel must exceed (0: full scale / 16)
+  int peak_window_px = 4;           // half width of the sub-pixel fit window
+  std::string peak_method = "cog";  // sub-pixel method: cog, gaussian, parabolic
+  std::string peak_policy = "continuous";  // several peaks: strongest, first, last, widest, continuous
+
   // Error model off: profiles are the ideal geometric ones (`vts scan --ideal`).
   bool ideal = false;
+  // Profiles from the camera image instead of the error model (`--camera-image`).
+  bool camera_image = false;
 };
 
 // Empty when the description is usable, else a message naming the first bad

@@ -53,6 +53,25 @@ constexpr NumberKey kScannerNumbers[] = {
     {"rough_offset_max_mm", &ScannerDesc::rough_offset_max_mm},
     {"dropout_prob_normal", &ScannerDesc::dropout_prob_normal},
     {"dropout_prob_grazing", &ScannerDesc::dropout_prob_grazing},
+    {"scheimpflug_deg", &ScannerDesc::scheimpflug_deg},
+    {"f_number", &ScannerDesc::f_number},
+    {"wavelength_nm", &ScannerDesc::wavelength_nm},
+    {"psf_sigma_px", &ScannerDesc::psf_sigma_px},
+    {"laser_power_mw", &ScannerDesc::laser_power_mw},
+    {"sheet_waist_mm", &ScannerDesc::sheet_waist_mm},
+    {"sheet_focus_mm", &ScannerDesc::sheet_focus_mm},
+    {"sheet_m2", &ScannerDesc::sheet_m2},
+    {"exposure_us", &ScannerDesc::exposure_us},
+    {"gain", &ScannerDesc::gain},
+    {"quantum_efficiency", &ScannerDesc::quantum_efficiency},
+    {"full_well_e", &ScannerDesc::full_well_e},
+    {"read_noise_e", &ScannerDesc::read_noise_e},
+    {"dark_offset_dn", &ScannerDesc::dark_offset_dn},
+    {"ambient_w_m2", &ScannerDesc::ambient_w_m2},
+    {"specular_reflectance", &ScannerDesc::specular_reflectance},
+    {"specular_lobe_deg", &ScannerDesc::specular_lobe_deg},
+    {"speckle_contrast", &ScannerDesc::speckle_contrast},
+    {"peak_threshold_dn", &ScannerDesc::peak_threshold_dn},
 };
 constexpr IntKey kScannerInts[] = {
     {"roi_first_column", &ScannerDesc::roi_first_column},
@@ -60,6 +79,10 @@ constexpr IntKey kScannerInts[] = {
     {"image_width_px", &ScannerDesc::image_width_px},
     {"image_height_px", &ScannerDesc::image_height_px},
     {"shiny_cluster_max_points", &ScannerDesc::shiny_cluster_max_points},
+    {"image_bits", &ScannerDesc::image_bits},
+    {"image_roi_first_row", &ScannerDesc::image_roi_first_row},
+    {"image_roi_rows", &ScannerDesc::image_roi_rows},
+    {"peak_window_px", &ScannerDesc::peak_window_px},
 };
 
 using yaml_io::describe;

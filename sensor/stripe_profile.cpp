@@ -1,5 +1,7 @@
 #include "sensor/stripe_profile.h"
 
+#include "sensor/camera_image.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -22,17 +24,15 @@ void peaks_to_profile(const ScannerDesc& desc, const stripe::PeakResult& peaks, 
                                 std::to_string(row_offset + image_height - 1) +
                                 " are outside the sensor camera's rows 0.." +
                                 std::to_string(desc.image_height_px - 1));
-  const CameraModel cam = camera_model(desc);
-  const double row0 = row_offset - 0.5 * (desc.image_height_px - 1);
-  const double col0 = -0.5 * (desc.image_width_px - 1);
+  const CameraGeometry cam = camera_geometry(desc);
   const double full_scale = stripe::full_scale_dn(bits);
   out.resize(width);
   for (int c = 0; c < width; ++c) {
     const stripe::Peak* p = peaks.chosen_peak(c);
     if (!p) continue;
-    const double z = depth_of_row_mm(cam, p->row + row0);
-    if (!(z > 0.0) || !std::isfinite(z)) continue;
-    const double y = (c + col0) * z * cam.cos_theta / cam.f_px;
+    Eigen::Vector2d yz;
+    if (!triangulate(cam, c, p->row + row_offset, yz) || !(yz.y() > 0.0) || !std::isfinite(yz.y())) continue;
+    const double y = yz.x(), z = yz.y();
     out.y_mm[c] = static_cast<float>(y);
     out.z_mm[c] = static_cast<float>(z);
     out.range_mm[c] = static_cast<float>(std::hypot(y, z));

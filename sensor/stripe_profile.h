@@ -1,6 +1,7 @@
 #pragma once
 // The stripe peaks of a camera image (stripe/peaks.h) as a profile, through
-// the scanner's camera model (sensor/error_model.h), and as CSV
+// the scanner's camera (sensor/camera_image.h: camera_geometry, triangulate,
+// with its Scheimpflug tilt when it has one), and as CSV
 // (docs/PEAKS.md "CSV").
 //
 // Image frame: pixel row r covers [r - 0.5, r + 0.5] (stripe/peaks.h), so the
@@ -9,8 +10,8 @@
 //   u = r + row_offset - (H - 1) / 2,   v = c - (W - 1) / 2
 // (H, W: the scanner's image_height_px, image_width_px; row_offset: the
 // sensor row of the image's row 0, for a region of interest), and
-//   z = K / (F tan(theta) - u),   y = v z cos(theta) / F,
-// the inverse of u = F tan(theta) - K / z, v = F y / (z cos(theta)).
+//   z = K / (F tan(theta) - u),   y = v z cos(theta) / F
+// without tilt, the inverse of u = F tan(theta) - K / z, v = F y / (z cos(theta)).
 #include <iosfwd>
 
 #include "sensor/profile.h"

@@ -221,33 +221,44 @@ void choose_continuous(const PeakParams& params, double full_scale, PeakResult& 
   out.back_.resize(n);
   out.none_score_.resize(width);
   out.none_back_.resize(width);
+  out.none_row_.resize(width);
   const double jump = params.jump_cost, free_px = params.max_jump_px;
+  const double bright = params.brightness_weight / full_scale;
+  const float no_row = std::numeric_limits<float>::quiet_NaN();
+  // The cost of moving from a peak at row `from` (NaN: no peak before) to `to`.
+  auto jump_cost = [&](float from, float to) {
+    return std::isnan(from) ? 0.0 : jump * std::max(0.0, std::abs(double(to) - from) - free_px);
+  };
   for (int c = 0; c < width; ++c) {
     const int b = out.column_offset[c], e = out.column_offset[c + 1];
     const double miss = e > b ? params.miss_cost : 0.0;
     if (c == 0) {
-      for (int p = b; p < e; ++p) out.score_[p] = out.peaks[p].peak_dn / full_scale, out.back_[p] = -1;
+      for (int p = b; p < e; ++p) out.score_[p] = 1.0 + bright * out.peaks[p].peak_dn, out.back_[p] = -1;
       out.none_score_[0] = -miss;
       out.none_back_[0] = -1;
+      out.none_row_[0] = no_row;
       continue;
     }
     const int pb = out.column_offset[c - 1], pe = b;
-    // Best state of column c - 1 whatever this column's choice ("none" first on ties).
+    // "none" here: the best state of column c - 1 ("none" first on ties),
+    // remembering the row its path last chose.
     double any = out.none_score_[c - 1];
     int any_back = -1;
+    float any_row = out.none_row_[c - 1];
     for (int q = pb; q < pe; ++q)
-      if (out.score_[q] > any) any = out.score_[q], any_back = q;
+      if (out.score_[q] > any) any = out.score_[q], any_back = q, any_row = out.peaks[q].row;
     out.none_score_[c] = any - miss;
     out.none_back_[c] = any_back;
+    out.none_row_[c] = any_row;
     for (int p = b; p < e; ++p) {
-      double best = out.none_score_[c - 1];
+      const float row = out.peaks[p].row;
+      double best = out.none_score_[c - 1] - jump_cost(out.none_row_[c - 1], row);
       int back = -1;
       for (int q = pb; q < pe; ++q) {
-        const double d = std::abs(double(out.peaks[p].row) - out.peaks[q].row);
-        const double v = out.score_[q] - jump * std::max(0.0, d - free_px);
+        const double v = out.score_[q] - jump_cost(out.peaks[q].row, row);
         if (v > best) best = v, back = q;
       }
-      out.score_[p] = best + out.peaks[p].peak_dn / full_scale;
+      out.score_[p] = best + 1.0 + bright * out.peaks[p].peak_dn;
       out.back_[p] = back;
     }
   }
@@ -312,6 +323,8 @@ void validate(const PeakParams& p, int bits, int height) {
   if (!(p.max_jump_px >= 0.0 && std::isfinite(p.max_jump_px))) bad("max_jump_px", p.max_jump_px, "must be >= 0 rows");
   if (!(p.jump_cost >= 0.0 && std::isfinite(p.jump_cost))) bad("jump_cost", p.jump_cost, "must be >= 0");
   if (!(p.miss_cost >= 0.0 && std::isfinite(p.miss_cost))) bad("miss_cost", p.miss_cost, "must be >= 0");
+  if (!(p.brightness_weight >= 0.0 && std::isfinite(p.brightness_weight)))
+    bad("brightness_weight", p.brightness_weight, "must be >= 0");
 }
 
 void detect_peaks(const ImageView& image, const PeakParams& params, PeakResult& out) {

@@ -81,14 +81,16 @@ struct PeakParams {
   // Rows searched: [row_first, row_last]; row_last -1 means the last row.
   int row_first = 0;
   int row_last = -1;
-  // `continuous` only (docs/PEAKS.md): a row change of up to max_jump_px
-  // between the chosen peaks of neighbouring columns is free; each row beyond
-  // costs jump_cost; a column left without a chosen peak although it has
-  // peaks costs miss_cost. Costs are in units of full scale (a peak scores
-  // peak_dn / full scale, at most 1). All >= 0.
+  // `continuous` only (docs/PEAKS.md): continuity first, brightness second.
+  // A chosen peak scores 1 + brightness_weight * peak_dn / full scale; a
+  // row change of up to max_jump_px from the previous chosen peak (across
+  // columns left without one too) is free, each row beyond costs jump_cost;
+  // a column left without a chosen peak although it has peaks costs
+  // miss_cost. All >= 0.
   double max_jump_px = 4.0;
-  double jump_cost = 0.05;
-  double miss_cost = 0.5;
+  double jump_cost = 0.5;
+  double miss_cost = 1.0;
+  double brightness_weight = 0.1;
 };
 
 // Throws std::invalid_argument naming the field and its value, e.g.
@@ -124,6 +126,7 @@ struct PeakResult {
   std::vector<std::uint16_t> strip_;  // a strip of columns, transposed
   std::vector<double> score_, none_score_;
   std::vector<int> back_, none_back_;
+  std::vector<float> none_row_;  // the row of the last chosen peak on "none"'s best path (NaN: none yet)
 };
 
 // Detects the peaks of every column of `image` into `out` (replacing its

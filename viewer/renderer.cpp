@@ -11,63 +11,16 @@
 
 #include <Eigen/Geometry>
 
+#include "render/gl_program.h"
 #include "shaders/embedded.h"
 
 namespace vts::viewer {
 namespace {
 
-std::string info_log(GLuint object, bool is_program) {
-  GLint length = 0;
-  if (is_program)
-    glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length);
-  else
-    glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
-  std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-  if (is_program)
-    glGetProgramInfoLog(object, length, nullptr, log.data());
-  else
-    glGetShaderInfoLog(object, length, nullptr, log.data());
-  log.resize(std::char_traits<char>::length(log.c_str()));
-  return log;
-}
-
-GLuint compile(GLenum type, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    const std::string log = info_log(shader, false);
-    glDeleteShader(shader);
-    throw std::runtime_error(std::string("vts-view: shader ") + name + " failed to compile:\n" + log);
-  }
-  return shader;
-}
-
+// The viewer's programs, built as the renderers of render/ build theirs.
 GLuint link(const char* vert, const char* frag, const char* name) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vert, (std::string(name) + ".vert").c_str());
-  GLuint fs = 0;
-  try {
-    fs = compile(GL_FRAGMENT_SHADER, frag, (std::string(name) + ".frag").c_str());
-  } catch (...) {
-    glDeleteShader(vs);
-    throw;
-  }
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    const std::string log = info_log(program, true);
-    glDeleteProgram(program);
-    throw std::runtime_error(std::string("vts-view: program ") + name + " failed to link:\n" + log);
-  }
-  return program;
+  const std::string v = std::string(name) + ".vert", f = std::string(name) + ".frag";
+  return vts::link_program("vts-view", vert, v.c_str(), frag, f.c_str());
 }
 
 // A vertex array with one interleaved buffer; move-only, frees both.

@@ -1,0 +1,565 @@
+#include "sensor/camera_image.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "sensor/error_model.h"
+#include "sensor/ray_scene.h"
+#include "sensor/rays.h"
+
+namespace vts {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kPlanck = 6.62607015e-34;   // J s
+constexpr double kLight = 2.99792458e8;      // m/s
+
+// Counter-based draws: a splitmix64 hash of (seed, index, stream, i), so a
+// pixel's noise does not depend on the order pixels are visited.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// Acklam's rational approximation of the standard normal quantile (relative
+// error below 1.2e-9), used once to fill the table below.
+double normal_quantile(double p) {
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                             1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
+  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                             6.680131188771972e+01,  -1.328068155288572e+01};
+  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                             -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
+  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                             3.754408661907416e+00};
+  const double lo = 0.02425;
+  if (p < lo) {
+    const double q = std::sqrt(-2.0 * std::log(p));
+    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
+  }
+  if (p > 1.0 - lo) return -normal_quantile(1.0 - p);
+  const double q = p - 0.5, r = q * q;
+  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1.0);
+}
+
+// Standard normal draws from a table of 65,536 quantiles at equal
+// probability steps (tails cut at 4.3 sigma): one hash and one load per draw.
+// Enough for sensor noise; the error model's own draws are not affected.
+constexpr int kNormalBits = 16;
+const std::array<float, 1 << kNormalBits>& normal_table() {
+  static const auto table = [] {
+    std::array<float, 1 << kNormalBits> t{};
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t[i] = static_cast<float>(normal_quantile((static_cast<double>(i) + 0.5) / t.size()));
+    return t;
+  }();
+  return table;
+}
+
+struct Draws {
+  std::uint64_t key;
+  const float* table = normal_table().data();
+  Draws(std::uint64_t seed, std::int64_t index, std::uint64_t stream)
+      : key(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index)) ^ mix(stream)) {}
+  float normal(std::uint64_t i) const { return table[mix(key ^ i) & 0xffff]; }
+};
+
+// Normal draws per column correlated over `grain` columns: white draws
+// smoothed with a Gaussian of std dev grain / 2, scaled back to unit variance.
+void correlated_normals(const Draws& draws, std::uint64_t stream, int n, double grain, std::vector<float>& out,
+                        std::vector<float>& white) {
+  const double sigma = std::max(0.0, 0.5 * grain);
+  const int radius = sigma < 0.3 ? 0 : static_cast<int>(std::ceil(3.0 * sigma));
+  white.resize(static_cast<std::size_t>(n + 2 * radius));
+  for (std::size_t i = 0; i < white.size(); ++i) white[i] = draws.normal(stream * 0x100000000ull + i);
+  out.assign(static_cast<std::size_t>(n), 0.0f);
+  if (radius == 0) {
+    std::copy(white.begin(), white.begin() + n, out.begin());
+    return;
+  }
+  std::vector<float> kernel(static_cast<std::size_t>(2 * radius + 1));
+  double norm = 0.0;
+  for (int k = -radius; k <= radius; ++k) {
+    const double w = std::exp(-0.5 * k * k / (sigma * sigma));
+    kernel[static_cast<std::size_t>(k + radius)] = static_cast<float>(w);
+    norm += w * w;
+  }
+  const float scale = static_cast<float>(1.0 / std::sqrt(norm));
+  for (int i = 0; i < n; ++i) {
+    float s = 0.0f;
+    for (int k = 0; k <= 2 * radius; ++k) s += kernel[static_cast<std::size_t>(k)] * white[static_cast<std::size_t>(i + k)];
+    out[static_cast<std::size_t>(i)] = s * scale;
+  }
+}
+
+// The share of a unit-area Gaussian (centre mu, std dev sigma) over the
+// pixel [r - 0.5, r + 0.5].
+double pixel_share(double r, double mu, double sigma) {
+  const double k = 1.0 / (std::numbers::sqrt2 * sigma);
+  return 0.5 * (std::erf((r + 0.5 - mu) * k) - std::erf((r - 0.5 - mu) * k));
+}
+
+// Per-thread scratch of form_image (no allocation per image once grown).
+std::vector<float>& scratch_column() { thread_local std::vector<float> v; return v; }
+std::vector<float>& scratch_blurred() { thread_local std::vector<float> v; return v; }
+std::vector<int>& scratch_lo() { thread_local std::vector<int> v; return v; }
+std::vector<int>& scratch_hi() { thread_local std::vector<int> v; return v; }
+
+}  // namespace
+
+CameraGeometry camera_geometry(const ScannerDesc& d) {
+  CameraGeometry cam;
+  const double theta = d.triangulation_deg * kDeg;
+  cam.centre = Eigen::Vector3d(d.baseline_mm, 0.0, d.baseline_mm * std::tan(theta));
+  cam.camera_from_sensor.row(0) = Eigen::Vector3d(std::cos(theta), 0.0, std::sin(theta));
+  cam.camera_from_sensor.row(1) = Eigen::Vector3d(0.0, 1.0, 0.0);
+  cam.camera_from_sensor.row(2) = Eigen::Vector3d(-std::sin(theta), 0.0, std::cos(theta));
+  cam.f_px = d.focal_length_mm / (d.pixel_pitch_um * 1e-3);
+  cam.cos_tilt = std::cos(d.scheimpflug_deg * kDeg);
+  cam.sin_tilt = std::sin(d.scheimpflug_deg * kDeg);
+  cam.width = d.image_width_px;
+  cam.height = d.image_height_px;
+  cam.cx = 0.5 * (d.image_width_px - 1);
+  cam.cy = 0.5 * (d.image_height_px - 1);
+  return cam;
+}
+
+bool project(const CameraGeometry& cam, const Eigen::Vector3d& p, Eigen::Vector2d& col_row) {
+  const Eigen::Vector3d x = cam.camera_from_sensor * (p - cam.centre);
+  const double den = x.z() * cam.cos_tilt - x.x() * cam.sin_tilt;
+  if (!(x.z() > 0.0) || !(den > 0.0)) return false;
+  col_row = {cam.cx + cam.f_px * cam.cos_tilt * x.y() / den, cam.cy + cam.f_px * x.x() / den};
+  return true;
+}
+
+bool triangulate(const CameraGeometry& cam, double column, double row, Eigen::Vector2d& yz) {
+  // Invert the projection for the ray direction in camera coordinates
+  // (x/z, y/z), then meet the laser plane x_sensor = 0.
+  const double u = row - cam.cy, v = column - cam.cx;
+  const double den = cam.f_px + u * cam.sin_tilt;
+  if (!(den > 0.0)) return false;
+  const double xz = u * cam.cos_tilt / den;
+  const double yz_ratio = v * (cam.cos_tilt - xz * cam.sin_tilt) / (cam.f_px * cam.cos_tilt);
+  const Eigen::Vector3d dir = cam.camera_from_sensor.transpose() * Eigen::Vector3d(xz, yz_ratio, 1.0);
+  // centre + s dir with x = 0.
+  if (!(std::abs(dir.x()) > 1e-12)) return false;
+  const double s = -cam.centre.x() / dir.x();
+  if (!(s > 0.0)) return false;
+  const Eigen::Vector3d p = cam.centre + s * dir;
+  yz = {p.y(), p.z()};
+  return true;
+}
+
+double sheet_half_thickness_mm(const ScannerDesc& d, double range_mm) {
+  const double lambda_mm = d.wavelength_nm * 1e-6;
+  const double z_r = std::numbers::pi * d.sheet_waist_mm * d.sheet_waist_mm / (d.sheet_m2 * lambda_mm);
+  const double t = (range_mm - d.sheet_focus_mm) / z_r;
+  return d.sheet_waist_mm * std::sqrt(1.0 + t * t);
+}
+
+double electrons_per_radiance(const ScannerDesc& d) {
+  const double pitch_mm = d.pixel_pitch_um * 1e-3;
+  const double photon_j = kPlanck * kLight / (d.wavelength_nm * 1e-9);
+  return std::numbers::pi / (4.0 * d.f_number * d.f_number) * pitch_mm * pitch_mm * d.exposure_us * 1e-6 *
+         d.quantum_efficiency / photon_j;
+}
+
+double dn_per_electron(const ScannerDesc& d) {
+  return d.gain * (std::ldexp(1.0, d.image_bits) - 1.0) / d.full_well_e;
+}
+
+void RadianceImage::resize(int w, int r, int first) {
+  width = w;
+  rows = r;
+  first_row = first;
+  laser.assign(static_cast<std::size_t>(w) * r, 0.0f);
+  ambient.assign(static_cast<std::size_t>(w) * r, 0.0f);
+}
+
+std::pair<int, int> image_roi(const ScannerDesc& d) {
+  if (d.image_roi_rows <= 0) return {0, d.image_height_px};
+  return {d.image_roi_first_row, d.image_roi_rows};
+}
+
+void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& world_from_sensor,
+                       LaserPaths& out) {
+  const CameraGeometry cam = camera_geometry(d);
+  const int w = cam.width;
+  out.true_row.assign(static_cast<std::size_t>(w), kNaN);
+  out.bounce_row.assign(static_cast<std::size_t>(w), kNaN);
+  out.bounce_sigma.assign(static_cast<std::size_t>(w), 0.0f);
+  out.bounce_radiance.assign(static_cast<std::size_t>(w), 0.0f);
+
+  const Eigen::Matrix3d rot = world_from_sensor.linear();
+  const Eigen::Vector3d origin = world_from_sensor.translation();
+  const Eigen::Vector3d cam_world = world_from_sensor * cam.centre;
+  const double tan_half_fan = std::tan(0.5 * d.fan_deg * kDeg);
+  const double fan_rad = d.fan_deg * kDeg;
+  const double power_w = d.laser_power_mw * 1e-3;
+  const double lobe = d.specular_lobe_deg * kDeg;
+  const Eigen::Vector3d axis_world = rot * cam.camera_from_sensor.row(2).transpose();
+  const bool bounce = d.specular_reflectance > 0.0;
+  const Eigen::Vector3d plane_normal = rot.col(0);  // the laser plane's normal, world
+
+  struct Sample {
+    double col, row;
+    bool seen;
+    double bcol, brow, bsigma, bradiance;
+    bool bounced;
+  };
+  std::vector<Sample> samples(static_cast<std::size_t>(w));
+  for (int c = 0; c < w; ++c) {
+    Sample& s = samples[static_cast<std::size_t>(c)];
+    s = {0, 0, false, 0, 0, 0, 0, false};
+    // The laser-plane direction that images at column c at mid range
+    // (exact for every range without tilt).
+    Eigen::Vector2d yz;
+    const double row_mid = cam.cy;
+    double tan_a = 0.0;
+    if (triangulate(cam, c, row_mid, yz) && yz.y() > 0.0) tan_a = yz.x() / yz.y();
+    else tan_a = (c - cam.cx) * cam.camera_from_sensor(2, 2) / cam.f_px;
+    if (std::abs(tan_a) > tan_half_fan) continue;
+    const Eigen::Vector3d dir_s = Eigen::Vector3d(0.0, tan_a, 1.0).normalized();
+    const Eigen::Vector3d dir = rot * dir_s;
+    RayScene::Hit hit;
+    if (!scene.intersect(origin.cast<float>(), dir.cast<float>(), 0.0f,
+                         static_cast<float>(d.max_hit_mm), hit))
+      continue;
+    const Eigen::Vector3d p = origin + static_cast<double>(hit.t) * dir;
+    const Eigen::Vector3d n = hit.normal.cast<double>();
+    const Eigen::Vector3d p_s = world_from_sensor.inverse() * p;
+    if (p_s.z() < d.min_range_mm || p_s.z() > d.max_range_mm) continue;
+    Eigen::Vector2d cr;
+    const Eigen::Vector3d to_cam = cam_world - p;
+    const double dist_cam = to_cam.norm();
+    if (project(cam, p_s, cr) && n.dot(to_cam) > 0.0 &&
+        !scene.occluded((p + 1e-3 * n).cast<float>(), (to_cam / dist_cam).cast<float>(),
+                        static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist_cam))) {
+      s.col = cr.x();
+      s.row = cr.y();
+      s.seen = true;
+    }
+    if (!bounce) continue;
+    // The mirror reflection of the ray off the surface.
+    const Eigen::Vector3d m = dir - 2.0 * dir.dot(n) * n;
+    RayScene::Hit hq;
+    if (!scene.intersect((p + 1e-3 * n).cast<float>(), m.cast<float>(), 0.01f, 1e5f, hq)) continue;
+    const Eigen::Vector3d q = p + 1e-3 * n + static_cast<double>(hq.t) * m;
+    const Eigen::Vector3d nq = hq.normal.cast<double>();
+    const double travelled = hit.t + hq.t;
+    const double cos_q = -m.dot(nq);
+    const Eigen::Vector3d q_to_cam = cam_world - q;
+    const double q_dist = q_to_cam.norm();
+    if (!(cos_q > 0.0) || nq.dot(q_to_cam) <= 0.0) continue;
+    if (scene.occluded((q + 1e-3 * nq).cast<float>(), (q_to_cam / q_dist).cast<float>(),
+                       static_cast<float>(kShadowEpsilonMm), static_cast<float>(q_dist)))
+      continue;
+    // The mirrored sheet: thickness of the beam after `travelled` widened by
+    // the lobe over the reflected leg; in-line power density of a fan from
+    // the mirrored origin.
+    const double sigma_sheet = 0.5 * sheet_half_thickness_mm(d, travelled);
+    const double sigma_b = std::hypot(sigma_sheet, lobe * hq.t);
+    const double irradiance = d.specular_reflectance * power_w / (fan_rad * travelled) /
+                              (std::sqrt(2.0 * std::numbers::pi) * sigma_b) * cos_q;
+    const Eigen::Vector3d view = q_to_cam / q_dist;
+    const double cos_off = std::max(0.0, axis_world.dot(-view));
+    const double radiance = irradiance * d.reflectivity / std::numbers::pi * std::pow(cos_off, 4);
+    // Width in the image: across the mirrored band on the surface at q.
+    const Eigen::Vector3d mn = plane_normal - 2.0 * plane_normal.dot(n) * n;
+    Eigen::Vector3d across = mn - mn.dot(nq) * nq;
+    const double across_norm = across.norm();
+    if (!(across_norm > 1e-9)) continue;
+    across /= across_norm;
+    const double sigma_surface = std::min(50.0, sigma_b / std::max(0.05, std::abs(mn.dot(across))));
+    Eigen::Vector2d qa, qb;
+    const Pose sensor_from_world = world_from_sensor.inverse();
+    if (!project(cam, sensor_from_world * q, qa) ||
+        !project(cam, sensor_from_world * (q + sigma_surface * across), qb))
+      continue;
+    s.bcol = qa.x();
+    s.brow = qa.y();
+    s.bsigma = std::max(0.3, std::abs(qb.y() - qa.y()));
+    s.bradiance = radiance;
+    s.bounced = true;
+  }
+
+  // Resample both to the integer image columns between neighbouring samples
+  // that continue each other (a jump of more than 4 px is an edge).
+  constexpr double kJoin = 4.0;
+  for (int c = 0; c + 1 < w; ++c) {
+    const Sample& a = samples[static_cast<std::size_t>(c)];
+    const Sample& b = samples[static_cast<std::size_t>(c + 1)];
+    if (a.seen && b.seen && std::abs(a.col - b.col) <= kJoin && std::abs(a.row - b.row) <= kJoin) {
+      const double lo = std::min(a.col, b.col), hi = std::max(a.col, b.col);
+      for (int k = static_cast<int>(std::ceil(lo)); k <= static_cast<int>(std::floor(hi)); ++k) {
+        if (k < 0 || k >= w) continue;
+        const double f = hi > lo ? (k - a.col) / (b.col - a.col) : 0.0;
+        out.true_row[static_cast<std::size_t>(k)] = static_cast<float>(a.row + f * (b.row - a.row));
+      }
+    }
+    if (a.bounced && b.bounced && std::abs(a.bcol - b.bcol) <= 3 * kJoin && std::abs(a.brow - b.brow) <= 3 * kJoin) {
+      const double lo = std::min(a.bcol, b.bcol), hi = std::max(a.bcol, b.bcol);
+      for (int k = static_cast<int>(std::ceil(lo)); k <= static_cast<int>(std::floor(hi)); ++k) {
+        if (k < 0 || k >= w) continue;
+        const double f = hi > lo ? (k - a.bcol) / (b.bcol - a.bcol) : 0.0;
+        const double rad = a.bradiance + f * (b.bradiance - a.bradiance);
+        // Where two bounced pieces cross a column, the brighter is kept.
+        if (rad <= out.bounce_radiance[static_cast<std::size_t>(k)]) continue;
+        out.bounce_row[static_cast<std::size_t>(k)] = static_cast<float>(a.brow + f * (b.brow - a.brow));
+        out.bounce_sigma[static_cast<std::size_t>(k)] = static_cast<float>(a.bsigma + f * (b.bsigma - a.bsigma));
+        out.bounce_radiance[static_cast<std::size_t>(k)] = static_cast<float>(rad);
+      }
+    }
+  }
+}
+
+void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& paths, std::uint64_t seed,
+                std::int64_t index, CameraImage& out) {
+  const int w = rad.width, rows = rad.rows, r0 = rad.first_row;
+  out.width = w;
+  out.rows = rows;
+  out.first_row = r0;
+  out.bits = d.image_bits;
+  out.index = index;
+  out.pixels.resize(static_cast<std::size_t>(w) * rows);
+  out.true_row = paths.true_row;
+  out.bounce_row = paths.bounce_row;
+  const auto at = [w](int col, int k) { return static_cast<std::size_t>(k) * w + col; };
+
+  // 1. The bounce: a Gaussian band per column, integrated over each pixel.
+  for (int c = 0; c < w && c < static_cast<int>(paths.bounce_row.size()); ++c) {
+    const float row = paths.bounce_row[static_cast<std::size_t>(c)];
+    if (!std::isfinite(row)) continue;
+    // The lens blur widens the band as it widens the stripe (the renderer
+    // folds it into the stripe's profile).
+    const double sigma = std::hypot(static_cast<double>(paths.bounce_sigma[static_cast<std::size_t>(c)]), d.psf_sigma_px);
+    const double peak = paths.bounce_radiance[static_cast<std::size_t>(c)];
+    const double area = peak * sigma * std::sqrt(2.0 * std::numbers::pi);  // radiance x px
+    const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
+    const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
+    for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += static_cast<float>(area * pixel_share(r, row, sigma));
+  }
+
+  std::vector<float>& column = scratch_column();
+  std::vector<float>& blurred = scratch_blurred();
+  column.resize(static_cast<std::size_t>(rows));
+  blurred.resize(static_cast<std::size_t>(rows));
+
+  // 2. Speckle: per column a brightness factor (log-normal, mean 1, std dev
+  // speckle_contrast) and a shift of the stripe (normal, std dev
+  // speckle_px), each correlated over the speckle grain 2.44 lambda N / pitch.
+  const Draws draws(seed, index, 1);
+  thread_local std::vector<float> amp, shift, white;
+  amp.clear();
+  shift.clear();
+  const bool speckle = d.speckle_contrast > 0.0 || d.speckle_px > 0.0;
+  if (speckle) {
+    const double grain = 2.44 * d.wavelength_nm * 1e-3 * d.f_number / d.pixel_pitch_um;
+    correlated_normals(draws, 1, w, grain, amp, white);
+    correlated_normals(draws, 2, w, grain, shift, white);
+    const double s = std::sqrt(std::log1p(d.speckle_contrast * d.speckle_contrast));
+    for (float& a : amp) a = static_cast<float>(std::exp(s * a - 0.5 * s * s));
+    for (float& x : shift) x = static_cast<float>(x * d.speckle_px);
+  }
+
+  // Speckle touches only the rows around the laser light of each
+  // column: find them in one pass in memory order.
+  std::vector<int>& lo = scratch_lo();
+  std::vector<int>& hi = scratch_hi();
+  lo.assign(static_cast<std::size_t>(w), rows);
+  hi.assign(static_cast<std::size_t>(w), -1);
+  for (int k = 0; k < rows; ++k) {
+    const float* line = rad.laser.data() + static_cast<std::size_t>(k) * w;
+    for (int c = 0; c < w; ++c)
+      if (line[c] > 0.0f) {
+        lo[static_cast<std::size_t>(c)] = std::min(lo[static_cast<std::size_t>(c)], k);
+        hi[static_cast<std::size_t>(c)] = k;
+      }
+  }
+  float max_shift = 0.0f;
+  for (float x : shift) max_shift = std::max(max_shift, std::abs(x));
+  const int pad = static_cast<int>(std::ceil(max_shift)) + 2;
+  for (int c = 0; c < w; ++c) {
+    if (hi[static_cast<std::size_t>(c)] < 0) continue;
+    const int first = std::max(0, lo[static_cast<std::size_t>(c)] - pad);
+    const int last = std::min(rows - 1, hi[static_cast<std::size_t>(c)] + pad);
+    const int m = last - first + 1;
+    for (int k = 0; k < m; ++k) column[static_cast<std::size_t>(k)] = rad.laser[at(c, first + k)];
+    if (speckle) {
+      // Shift by linear interpolation (keeps the centroid's shift exact).
+      const double sh = shift[static_cast<std::size_t>(c)];
+      const double a = amp[static_cast<std::size_t>(c)];
+      const int whole = static_cast<int>(std::floor(sh));
+      const double f = sh - whole;
+      for (int k = 0; k < m; ++k) {
+        const int src = k - whole;
+        const float v0 = src >= 0 && src < m ? column[static_cast<std::size_t>(src)] : 0.0f;
+        const float v1 = src - 1 >= 0 && src - 1 < m ? column[static_cast<std::size_t>(src - 1)] : 0.0f;
+        blurred[static_cast<std::size_t>(k)] = static_cast<float>(a * ((1.0 - f) * v0 + f * v1));
+      }
+      column.swap(blurred);
+    }
+    for (int k = 0; k < m; ++k) rad.laser[at(c, first + k)] = column[static_cast<std::size_t>(k)];
+  }
+
+  // 3. Electrons, shot and read noise, gain, black level, saturation, in
+  // memory order. Shot noise (variance e) and read noise (variance read^2)
+  // are independent, so their sum is one normal draw of variance
+  // e + read^2 per pixel: the sum of the four bytes of a 32-bit hash of the
+  // pixel's number (Irwin-Hall, mean 510, std dev 147.8; within 0.01 of the
+  // normal's distribution function, tails cut at 3.45 sigma). The loop
+  // vectorizes.
+  const float k_e = static_cast<float>(electrons_per_radiance(d));
+  const float dn_e = static_cast<float>(dn_per_electron(d));
+  const float max_dn = static_cast<float>(std::ldexp(1.0, d.image_bits) - 1.0);
+  const float read2 = static_cast<float>(d.read_noise_e * d.read_noise_e);
+  const float offset = static_cast<float>(d.dark_offset_dn) + 0.5f;  // + 0.5: rounds when truncated
+  const float noise_scale = d.image_noise ? 1.0f / 147.8f : 0.0f;
+  const std::uint32_t key = static_cast<std::uint32_t>(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index)));
+  const std::uint32_t count = static_cast<std::uint32_t>(static_cast<std::size_t>(w) * rows);
+  const float* laser = rad.laser.data();
+  const float* ambient = rad.ambient.data();
+  std::uint16_t* pixels = out.pixels.data();
+  for (std::uint32_t i = 0; i < count; ++i) {
+    std::uint32_t x = key ^ (i * 0x9e3779b9u);  // lowbias32 (Wellons): a full-avalanche 32-bit hash
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    const float z = (static_cast<float>((x & 0xffu) + ((x >> 8) & 0xffu) + ((x >> 16) & 0xffu) + (x >> 24)) - 510.0f) *
+                    noise_scale;
+    const float e = std::max(0.0f, (laser[i] + ambient[i]) * k_e);
+    const float noisy = e + std::sqrt(e + read2) * z;
+    pixels[i] = static_cast<std::uint16_t>(std::clamp(noisy * dn_e + offset, 0.0f, max_dn + 0.5f));
+  }
+}
+
+stripe::PeakParams peak_params(const ScannerDesc& d) {
+  stripe::PeakParams p;
+  p.threshold_dn = d.peak_threshold_dn;
+  p.window_px = d.peak_window_px;
+  const auto method = stripe::parse_sub_pixel(d.peak_method);
+  if (!method)
+    throw std::invalid_argument("peak_method = '" + d.peak_method + "': must be one of " + stripe::sub_pixel_names());
+  const auto policy = stripe::parse_peak_policy(d.peak_policy);
+  if (!policy)
+    throw std::invalid_argument("peak_policy = '" + d.peak_policy + "': must be one of " +
+                                stripe::peak_policy_names());
+  p.method = *method;
+  p.policy = *policy;
+  return p;
+}
+
+void detect_stripe(const ScannerDesc& d, CameraImage& image, stripe::PeakResult& peaks) {
+  const stripe::ImageView view{image.pixels.data(), image.width, image.rows, image.width, image.bits};
+  stripe::detect_peaks(view, peak_params(d), peaks);
+  image.true_peak.assign(static_cast<std::size_t>(image.width), -1);
+  image.chosen_peak.assign(static_cast<std::size_t>(image.width), -1);
+  image.chosen_row.assign(static_cast<std::size_t>(image.width), kNaN);
+  image.peak_count.assign(static_cast<std::size_t>(image.width), 0);
+  for (int c = 0; c < image.width; ++c) {
+    const int first = peaks.column_offset[static_cast<std::size_t>(c)];
+    image.peak_count[static_cast<std::size_t>(c)] = peaks.count(c);
+    if (const stripe::Peak* chosen = peaks.chosen_peak(c)) {
+      image.chosen_peak[static_cast<std::size_t>(c)] = peaks.chosen[static_cast<std::size_t>(c)] - first;
+      image.chosen_row[static_cast<std::size_t>(c)] = chosen->row + static_cast<float>(image.first_row);
+    }
+    const float truth = c < static_cast<int>(image.true_row.size()) ? image.true_row[static_cast<std::size_t>(c)] : kNaN;
+    if (!std::isfinite(truth)) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = first; k < peaks.column_offset[static_cast<std::size_t>(c) + 1]; ++k) {
+      const stripe::Peak& pk = peaks.peaks[static_cast<std::size_t>(k)];
+      const double off = std::abs(pk.row + image.first_row - truth);
+      if (off <= std::max(1.5, 0.5 * pk.width_px) && off < best) {
+        best = off;
+        image.true_peak[static_cast<std::size_t>(c)] = k - first;
+      }
+    }
+  }
+}
+
+void profile_from_peaks(const ScannerDesc& d, const CameraImage& image, const stripe::PeakResult& peaks,
+                        const Profile& ideal, Profile& out) {
+  const int n = d.points;
+  if (!out.sized(n)) out.resize(n);
+  out.world_from_sensor = ideal.world_from_sensor;
+  out.time_s = ideal.time_s;
+  out.index = ideal.index;
+  const CameraGeometry cam = camera_geometry(d);
+  const double full_scale = std::ldexp(1.0, image.bits) - 1.0;
+  const double step = d.subpixel_step_px;
+  const int roi_first = std::max(0, d.roi_first_column), roi_last = std::min(n - 1, d.roi_last_column);
+  // The chosen peak's row of an image column (image frame), or NaN.
+  auto row_of = [&](int c) -> double {
+    if (c < 0 || c >= image.width) return std::numeric_limits<double>::quiet_NaN();
+    const stripe::Peak* p = peaks.chosen_peak(c);
+    return p ? p->row + image.first_row : std::numeric_limits<double>::quiet_NaN();
+  };
+  auto value_of = [&](int c) -> double {
+    const stripe::Peak* p = c >= 0 && c < image.width ? peaks.chosen_peak(c) : nullptr;
+    return p ? p->peak_dn : 0.0;
+  };
+  for (int i = 0; i < n; ++i) {
+    const bool ideal_ok = ideal.size() == n && ideal.valid[static_cast<std::size_t>(i)];
+    out.true_valid[static_cast<std::size_t>(i)] = ideal_ok ? 1 : 0;
+    out.true_y_mm[static_cast<std::size_t>(i)] = ideal_ok ? ideal.y_mm[static_cast<std::size_t>(i)] : 0.0f;
+    out.true_z_mm[static_cast<std::size_t>(i)] = ideal_ok ? ideal.z_mm[static_cast<std::size_t>(i)] : 0.0f;
+    out.cos_incidence[static_cast<std::size_t>(i)] = ideal.size() == n ? ideal.cos_incidence[static_cast<std::size_t>(i)] : 0.0f;
+    out.camera_visible[static_cast<std::size_t>(i)] = ideal.size() == n ? ideal.camera_visible[static_cast<std::size_t>(i)] : 0;
+    out.valid[static_cast<std::size_t>(i)] = 0;
+    out.y_mm[static_cast<std::size_t>(i)] = out.z_mm[static_cast<std::size_t>(i)] = out.range_mm[static_cast<std::size_t>(i)] = 0.0f;
+    out.intensity[static_cast<std::size_t>(i)] = 0.0f;
+    if (i < roi_first || i > roi_last) continue;
+    const double t = column_tan(d, i);
+    double z = ideal_ok ? ideal.z_mm[static_cast<std::size_t>(i)] : 0.5 * (d.min_range_mm + d.max_range_mm);
+    bool ok = false;
+    double col = 0.0, value = 0.0;
+    Eigen::Vector2d yz;
+    for (int iter = 0; iter < 4; ++iter) {
+      Eigen::Vector2d cr;
+      if (!project(cam, Eigen::Vector3d(0.0, z * t, z), cr)) break;
+      col = cr.x();
+      const int c0 = static_cast<int>(std::floor(col));
+      const double f = col - c0;
+      const double r0 = row_of(c0), r1 = row_of(c0 + 1);
+      double row;
+      if (std::isfinite(r0) && std::isfinite(r1) && std::abs(r1 - r0) <= 2.0) {
+        row = r0 + f * (r1 - r0);
+        value = std::max(value_of(c0), value_of(c0 + 1));
+      } else {
+        const int near = f < 0.5 ? c0 : c0 + 1;
+        row = row_of(near);
+        value = value_of(near);
+      }
+      if (!std::isfinite(row)) break;
+      if (step > 0.0) row = std::round(row / step) * step;
+      if (!triangulate(cam, col, row, yz) || !(yz.y() > 0.0)) break;
+      const double dz = std::abs(yz.y() - z);
+      z = yz.y();
+      ok = true;
+      if (dz < 1e-6) break;
+    }
+    if (!ok) continue;
+    if (col < -0.5 || col > image.width - 0.5) continue;
+    const double range = yz.norm();
+    if (z < d.min_range_mm || z > d.max_range_mm || range > d.max_hit_mm) continue;
+    out.valid[static_cast<std::size_t>(i)] = 1;
+    out.y_mm[static_cast<std::size_t>(i)] = static_cast<float>(yz.x());
+    out.z_mm[static_cast<std::size_t>(i)] = static_cast<float>(z);
+    out.range_mm[static_cast<std::size_t>(i)] = static_cast<float>(range);
+    out.intensity[static_cast<std::size_t>(i)] = static_cast<float>(std::min(1.0, value / full_scale));
+  }
+}
+
+}  // namespace vts

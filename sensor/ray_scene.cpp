@@ -1,0 +1,154 @@
+#include "sensor/ray_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "common/parallel.h"
+
+namespace vts {
+namespace {
+
+// Embree reports the message through a callback on the thread that failed;
+// rtcGetDeviceError only gives the code.
+thread_local std::string t_embree_message;
+
+void on_embree_error(void*, RTCError, const char* message) {
+  t_embree_message = message ? message : "";
+}
+
+const char* error_name(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+  }
+  return "RTC_ERROR_?";
+}
+
+void check(RTCDevice device, const char* what) {
+  const RTCError code = rtcGetDeviceError(device);
+  if (code == RTC_ERROR_NONE) return;
+  std::string msg = std::string("Embree: ") + what + " failed: " + error_name(code);
+  if (!t_embree_message.empty()) msg += ": " + t_embree_message;
+  t_embree_message.clear();
+  throw std::runtime_error(msg);
+}
+
+}  // namespace
+
+RayScene::RayScene(const Mesh& mesh, const char* who) {
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::uint32_t v : mesh.triangles[t])
+      if (v >= mesh.vertices.size())
+        throw std::invalid_argument(std::string(who) + ": triangle " + std::to_string(t) +
+                                    " uses vertex " + std::to_string(v) + " but the mesh has " +
+                                    std::to_string(mesh.vertices.size()) + " vertices");
+
+  // The thread limit (common/parallel.h) bounds Embree's own threads too.
+  const std::string config = embree_device_config();
+  device_.reset(rtcNewDevice(config.empty() ? nullptr : config.c_str()));
+  if (!device_) vts::check(nullptr, "rtcNewDevice");
+  rtcSetDeviceErrorFunction(device_.get(), on_embree_error, nullptr);
+
+  scene_.reset(rtcNewScene(device_.get()));
+  check("rtcNewScene");
+  // ROBUST: without it rays lying exactly in the plane of a row of mesh
+  // edges slip between the triangles (docs: shared/notes/stack.md).
+  rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
+  check("scene setup");
+
+  // Embree rejects zero-sized buffers; an empty scene simply misses.
+  if (!mesh.vertices.empty() && !mesh.triangles.empty()) {
+    RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    check("rtcNewGeometry");
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        mesh.vertices.size()));
+    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
+        mesh.triangles.size()));
+    if (!v || !idx) {
+      rtcReleaseGeometry(geom);
+      check("rtcSetNewGeometryBuffer");
+      throw std::runtime_error("Embree: rtcSetNewGeometryBuffer returned no buffer");
+    }
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+      for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) idx[3 * i + k] = mesh.triangles[i][k];
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_.get(), geom);
+    rtcReleaseGeometry(geom);
+    check("geometry setup");
+  }
+  rtcCommitScene(scene_.get());
+  check("rtcCommitScene");
+}
+
+RayScene::~RayScene() = default;
+
+void RayScene::DeviceDeleter::operator()(RTCDeviceTy* d) const { rtcReleaseDevice(d); }
+void RayScene::SceneDeleter::operator()(RTCSceneTy* s) const { rtcReleaseScene(s); }
+
+void RayScene::check(const char* what) const { vts::check(device_.get(), what); }
+
+bool RayScene::intersect(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar,
+                         Hit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = o.x();
+  rh.ray.org_y = o.y();
+  rh.ray.org_z = o.z();
+  rh.ray.dir_x = d.x();
+  rh.ray.dir_y = d.y();
+  rh.ray.dir_z = d.z();
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_.get(), &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  const float norm = n.norm();
+  if (!(norm > 0.0f)) return false;
+  n /= norm;
+  hit.normal = n.dot(d) > 0.0f ? Eigen::Vector3f(-n) : n;
+  return true;
+}
+
+bool RayScene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray;
+  ray.org_x = o.x();
+  ray.org_y = o.y();
+  ray.org_z = o.z();
+  ray.dir_x = d.x();
+  ray.dir_y = d.y();
+  ray.dir_z = d.z();
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.time = 0.0f;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  rtcOccluded1(scene_.get(), &context, &ray);
+  return ray.tfar < 0.0f;
+}
+
+}  // namespace vts

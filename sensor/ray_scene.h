@@ -1,0 +1,58 @@
+#pragma once
+// One Embree 3 scene over a mesh (world frame, mm): robust mode (rays lying
+// in the plane of a row of mesh edges do not slip between triangles), high
+// build quality, Embree's threads bounded by the thread limit
+// (common/parallel.h). The ray-cast reference (sensor/reference_source.h)
+// casts its column and camera-shadow packets into it; the camera image
+// (sensor/camera_image.h) casts single rays for the laser's bounce.
+// Queries are thread-safe; the scene is immutable once built.
+#include <memory>
+
+#include <Eigen/Core>
+
+#include "sensor/mesh.h"
+
+// Embree's handle types (RTCScene is RTCSceneTy*), so that this header does
+// not need Embree's.
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace vts {
+
+class RayScene {
+ public:
+  // Throws std::invalid_argument naming `who` if a triangle indexes a vertex
+  // that does not exist, std::runtime_error with Embree's message if Embree
+  // fails. An empty mesh gives a scene every ray misses.
+  RayScene(const Mesh& mesh_world, const char* who);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  RTCSceneTy* scene() const { return scene_.get(); }
+  // Throws std::runtime_error "Embree: <what> failed: ..." if the device
+  // reports an error since the last check.
+  void check(const char* what) const;
+
+  struct Hit {
+    float t = 0.0f;             // distance along the (unit) direction
+    Eigen::Vector3f normal;     // unit geometric normal, facing the ray's origin
+  };
+  // The nearest hit of the ray o + t d (d unit) with tnear <= t <= tfar.
+  bool intersect(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar,
+                 Hit& hit) const;
+  // Whether anything lies on the ray between tnear and tfar.
+  bool occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar) const;
+
+ private:
+  struct DeviceDeleter {
+    void operator()(RTCDeviceTy* d) const;
+  };
+  struct SceneDeleter {
+    void operator()(RTCSceneTy* s) const;
+  };
+  std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
+  std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;  // released first
+};
+
+}  // namespace vts

@@ -1,0 +1,15 @@
+#version 450 core
+// Camera image, first pass (render/camera_renderer.cpp): every surface the
+// camera sees, its depth, and the ambient light it reflects (green channel),
+// diffusely: E_amb rho_d / pi, times cos^4 of the angle off the camera's
+// axis. The laser pass (camera_image.frag) adds the laser light on top.
+in vec3 p_sensor;
+layout(location = 0) out vec2 radiance;
+uniform vec3 cam_centre;
+uniform vec3 cam_axis;
+uniform float diffuse;
+uniform float ambient;  // W/mm^2
+void main() {
+  float cos_off = max(dot(cam_axis, normalize(p_sensor - cam_centre)), 0.0);
+  radiance = vec2(0.0, ambient * diffuse / 3.14159265358979 * (cos_off * cos_off) * (cos_off * cos_off));
+}

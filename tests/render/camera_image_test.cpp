@@ -1,0 +1,323 @@
+// The camera image (render/camera_renderer.h + sensor/camera_image.h) against
+// the geometric error model, the radiometry worked out here and mirror
+// geometry worked out here from the planes of a v-groove.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "render/camera_renderer.h"
+#include "sensor/camera_image.h"
+#include "sensor/cell.h"
+#include "sensor/error_model.h"
+#include "sensor/presets.h"
+#include "sensor/ray_scene.h"
+#include "sensor/reference_source.h"
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void add_quad(vts::Mesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+              const Eigen::Vector3d& d) {
+  const auto base = static_cast<std::uint32_t>(m.vertices.size());
+  for (const auto& p : {a, b, c, d}) m.vertices.push_back(p.cast<float>());
+  m.triangles.push_back({base, base + 1, base + 2});
+  m.triangles.push_back({base, base + 2, base + 3});
+}
+
+// A plate facing the sensor at depth z (sensor = world frame), tilted by
+// `tilt` degrees about the travel axis (x), so that depth changes along the
+// laser line.
+vts::Mesh plate(double z, double tilt_deg = 0.0) {
+  const double t = std::tan(tilt_deg * kPi / 180.0);
+  const double h = 0.8 * z + 50.0;
+  vts::Mesh m;
+  add_quad(m, {-h, -h, z - h * t}, {h, -h, z - h * t}, {h, h, z + h * t}, {-h, h, z + h * t});
+  return m;
+}
+
+// A v-groove along x with its root at depth z0 and walls `half_deg` from
+// the optical axis, `depth` deep, plate tops beyond.
+struct VGroove {
+  double z0, half_deg, depth;
+  double reach() const { return depth * std::tan(half_deg * kPi / 180.0); }
+  vts::Mesh mesh() const {
+    const double y = reach(), top = z0 - depth, x = 60.0, far = 80.0;
+    vts::Mesh m;
+    add_quad(m, {-x, -far, top}, {x, -far, top}, {x, -y, top}, {-x, -y, top});
+    add_quad(m, {-x, -y, top}, {x, -y, top}, {x, 0, z0}, {-x, 0, z0});
+    add_quad(m, {-x, 0, z0}, {x, 0, z0}, {x, y, top}, {-x, y, top});
+    add_quad(m, {-x, y, top}, {x, y, top}, {x, far, top}, {-x, far, top});
+    return m;
+  }
+  // Wall a (y < 0) or b (y > 0) as n . p = c with n facing the sensor.
+  Eigen::Vector3d normal(bool wall_b) const {
+    const double a = half_deg * kPi / 180.0;
+    return Eigen::Vector3d(0.0, wall_b ? -std::cos(a) : std::cos(a), -std::sin(a));
+  }
+};
+
+struct Shot {
+  vts::Profile ideal, measured;
+  vts::CameraImage image;
+  vts::LaserPaths paths;
+  vts::stripe::PeakResult peaks;
+};
+
+Shot shoot(const vts::ScannerDesc& d, const vts::Mesh& mesh, const vts::Pose& pose, std::int64_t index = 7) {
+  Shot s;
+  vts::ScannerDesc ideal_desc = d;
+  auto reference = vts::make_reference_source(ideal_desc, mesh, 1);
+  reference->scan(pose, s.ideal);
+  s.ideal.index = index;
+  vts::CameraRenderer renderer(d, mesh);
+  vts::RayScene scene(mesh, "test");
+  vts::RadianceImage rad;
+  renderer.render(pose, rad);
+  vts::trace_laser_paths(d, scene, pose, s.paths);
+  vts::form_image(d, rad, s.paths, 11, index, s.image);
+  vts::detect_stripe(d, s.image, s.peaks);
+  vts::profile_from_peaks(d, s.image, s.peaks, s.ideal, s.measured);
+  return s;
+}
+
+// Geometry only: no speckle, bounce, noise or outliers; a thin sheet
+// focused at `focus`.
+vts::ScannerDesc clean(double focus) {
+  vts::ScannerDesc d;
+  REQUIRE(vts::apply_material(d, "lambertian"));
+  d.speckle_px = 0.0;
+  d.speckle_contrast = 0.0;
+  d.specular_reflectance = 0.0;
+  d.image_noise = false;
+  d.ambient_w_m2 = 0.0;
+  d.sheet_waist_mm = 0.03;
+  d.sheet_focus_mm = focus;
+  d.max_incidence_deg = 89.0;
+  return d;
+}
+
+void write_pgm(const std::string& path, const vts::CameraImage& im) {
+  std::ofstream f(path, std::ios::binary);
+  f << "P5\n" << im.width << " " << im.rows << "\n255\n";
+  const double scale = 255.0 / (std::ldexp(1.0, im.bits) - 1.0);
+  for (std::uint16_t v : im.pixels) f.put(static_cast<char>(static_cast<unsigned char>(std::min(255.0, v * scale))));
+}
+
+}  // namespace
+
+TEST_CASE("without noise, bounce and speckle the image gives the geometric model's profile within the "
+          "sub-pixel step",
+          "[camera_image][gl]") {
+  for (double z : {100.0, 300.0, 950.0}) {
+    for (double tilt : {0.0, 25.0}) {
+      vts::ScannerDesc d = clean(z);
+      if (const char* m = std::getenv("VTS_METHOD")) d.peak_method = m;
+      if (const char* m = std::getenv("VTS_WINDOW")) d.peak_window_px = std::atoi(m);
+      // Bright enough to find, dark enough not to saturate, at every range.
+      d.exposure_us = 0.5 * (z / 100.0) * (z / 100.0);
+      const Shot s = shoot(d, plate(z, tilt), vts::Pose::Identity());
+      // The geometric model on the same ideal profile, its draws all off.
+      vts::ScannerDesc g = d;
+      g.dropout_prob_normal = g.dropout_prob_grazing = 0.0;
+      vts::ScanState state;
+      vts::Profile geometric;
+      vts::apply_error_model(g, s.ideal, state, geometric);
+      // Both quantize the peak's row to the sub-pixel step; compare rows.
+      const vts::CameraModel cam = vts::camera_model(d);
+      const double step = d.subpixel_step_px;
+      int both = 0, within = 0;
+      double worst = 0.0;
+      for (int i = 0; i < d.points; ++i) {
+        if (!geometric.valid[i] || !s.measured.valid[i]) continue;
+        ++both;
+        const double drow = std::abs(vts::image_row_px(cam, s.measured.z_mm[i]) - vts::image_row_px(cam, geometric.z_mm[i]));
+        worst = std::max(worst, drow);
+        within += drow <= step * 1.001;
+      }
+      INFO("z " << z << " tilt " << tilt << ": " << within << " of " << both << " within the step " << step
+                << " px, worst " << worst << " px");
+      CHECK(both >= geometric.valid_count() * 98 / 100);
+      CHECK(both >= d.points / 2);
+      CHECK(within == both);
+    }
+  }
+}
+
+TEST_CASE("the stripe carries the sheet's power: integrated radiance across it is P cos(i) rho / (pi phi r)",
+          "[camera_image][gl]") {
+  // Across the stripe, sum of the laser radiance of a column times each
+  // row's footprint on the plate (mm along x) integrates the sheet's
+  // profile, whose integral is 1: P / (phi r) cos(i) rho / pi, cos^4 off axis.
+  vts::ScannerDesc d = clean(200.0);
+  d.reflectivity = 0.8;
+  d.psf_sigma_px = 0.0;
+  const double z = 200.0;
+  const vts::Mesh mesh = plate(z);
+  vts::CameraRenderer renderer(d, mesh);
+  vts::RadianceImage rad;
+  renderer.render(vts::Pose::Identity(), rad);
+  const vts::CameraGeometry cam = vts::camera_geometry(d);
+  for (double t : {-0.2, 0.0, 0.25}) {
+    const Eigen::Vector3d p(0.0, t * z, z);
+    Eigen::Vector2d cr, cr2;
+    REQUIRE(vts::project(cam, p, cr));
+    REQUIRE(vts::project(cam, p + Eigen::Vector3d(0.01, 0.0, 0.0), cr2));
+    const double mm_per_row = 0.01 / std::abs(cr2.y() - cr.y());
+    const int c = static_cast<int>(std::lround(cr.x()));
+    double sum = 0.0;
+    for (int k = 0; k < rad.rows; ++k) sum += rad.laser[static_cast<std::size_t>(k) * rad.width + c];
+    const double r = p.norm();
+    const Eigen::Vector3d v = (cam.centre - p).normalized();
+    const double cos_off = cam.camera_from_sensor.row(2).dot(-v);
+    const double expected = d.laser_power_mw * 1e-3 / (d.fan_deg * kPi / 180.0 * r) * (z / r) * d.reflectivity / kPi *
+                            std::pow(cos_off, 4);
+    CHECK(sum * mm_per_row == Approx(expected).epsilon(0.01));
+  }
+}
+
+TEST_CASE("a shiny v-groove turned about the laser line shows the mirrored stripe where the planes put it",
+          "[camera_image][gl]") {
+  // Worked out here: each column's ray is mirrored by the wall it hits and
+  // meets the other wall's plane; the camera sees that point.
+  const VGroove v{110.0, std::getenv("VTS_HALF") ? std::atof(std::getenv("VTS_HALF")) : 35.0, 12.0};
+  vts::ScannerDesc d;
+  REQUIRE(vts::apply_material(d, "shiny-steel"));
+  d.specular_reflectance = 0.9;
+  d.reflectivity = 0.1;
+  d.specular_lobe_deg = 0.5;
+  d.speckle_px = 0.0;
+  d.speckle_contrast = 0.0;
+  const double pitch = (std::getenv("VTS_PITCH") ? std::atof(std::getenv("VTS_PITCH")) : 12.0) * kPi / 180.0;
+  const vts::Pose pose(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()));
+  const Shot s = shoot(d, v.mesh(), pose);
+  if (std::getenv("VTS_DUMP_IMAGES")) write_pgm("vgroove_bounce.pgm", s.image);
+  const vts::CameraGeometry cam = vts::camera_geometry(d);
+  const Eigen::Matrix3d rot = pose.linear();
+  int predicted = 0, found = 0, bounce_brighter = 0, strongest_took_it = 0, continuous_kept_true = 0;
+  for (int c = 0; c < cam.width; ++c) {
+    // The ray through the laser plane that images in column c.
+    Eigen::Vector2d yz;
+    if (!vts::triangulate(cam, c, cam.cy, yz)) continue;
+    const Eigen::Vector3d dir = rot * Eigen::Vector3d(0.0, yz.x() / yz.y(), 1.0).normalized();
+    // First hit among the walls (the tops cannot mirror into the groove).
+    for (bool b : {false, true}) {
+      const Eigen::Vector3d n = v.normal(b);
+      const double c0 = n.dot(Eigen::Vector3d(0.0, 0.0, v.z0));
+      const double t = c0 / n.dot(dir);
+      const Eigen::Vector3d p = t * dir;
+      if (!(t > 0) || (b ? p.y() < 0 : p.y() > 0) || std::abs(p.y()) > v.reach()) continue;
+      const Eigen::Vector3d m = dir - 2.0 * dir.dot(n) * n;
+      const Eigen::Vector3d n2 = v.normal(!b);
+      const double t2 = (c0 - n2.dot(p)) / n2.dot(m);
+      const Eigen::Vector3d q = p + t2 * m;
+      if (!(t2 > 0) || (b ? q.y() > 0 : q.y() < 0) || std::abs(q.y()) > v.reach()) continue;
+      Eigen::Vector2d qi;
+      if (!vts::project(cam, pose.inverse() * q, qi)) continue;
+      const int qc = static_cast<int>(std::lround(qi.x()));
+      if (qc < 0 || qc >= cam.width || !std::isfinite(s.paths.bounce_row[qc])) continue;
+      ++predicted;
+      if (std::abs(s.paths.bounce_row[qc] - qi.y()) > 1.0 + std::abs(qi.x() - qc) * 2.0) continue;
+      ++found;
+    }
+  }
+  INFO("predicted " << predicted << ", found " << found);
+  CHECK(predicted >= 40);
+  CHECK(found >= predicted * 9 / 10);
+
+  // Where the image holds both the true stripe and a brighter mirrored one,
+  // `strongest` takes the mirror and `continuous` keeps the stripe.
+  vts::CameraImage image = s.image;
+  vts::stripe::PeakResult strongest, continuous;
+  vts::ScannerDesc ds = d, dc = d;
+  ds.peak_policy = "strongest";
+  dc.peak_policy = "continuous";
+  vts::detect_stripe(ds, image, strongest);
+  const std::vector<int> true_peak = image.true_peak, chosen_strongest = image.chosen_peak;
+  vts::detect_stripe(dc, image, continuous);
+  for (int c = 0; c < image.width; ++c) {
+    if (true_peak[c] < 0 || strongest.count(c) < 2 || !std::isfinite(image.bounce_row[c])) continue;
+    const int first = strongest.column_offset[c];
+    const auto& t = strongest.peaks[first + true_peak[c]];
+    bool brighter = false;
+    for (int k = first; k < strongest.column_offset[c + 1]; ++k)
+      if (k != first + true_peak[c] && std::abs(strongest.peaks[k].row + image.first_row - image.bounce_row[c]) < 2.0 &&
+          strongest.peaks[k].peak_dn > t.peak_dn)
+        brighter = true;
+    if (!brighter) continue;
+    ++bounce_brighter;
+    strongest_took_it += chosen_strongest[c] != true_peak[c];
+    continuous_kept_true += image.chosen_peak[c] == true_peak[c];
+  }
+  INFO("bounce brighter in " << bounce_brighter << " columns; strongest took it in " << strongest_took_it
+                             << ", continuous kept the stripe in " << continuous_kept_true);
+  CHECK(bounce_brighter >= 10);
+  CHECK(strongest_took_it == bounce_brighter);
+  CHECK(continuous_kept_true >= bounce_brighter * 9 / 10);
+}
+
+TEST_CASE("with speckle on, the image's profile is as noisy as the geometric model's speckle_px says",
+          "[camera_image][gl]") {
+  // A plate at 200 mm, tilted so the stripe crosses rows; sensor noise and
+  // bounce off, exposure below saturation. The geometric model gets the
+  // same ideal profiles and the same speckle_px.
+  const double z = 200.0;
+  vts::ScannerDesc d;
+  d.exposure_us = 2.0;
+  d.image_noise = false;
+  d.specular_reflectance = 0.0;
+  d.dropout_prob_normal = d.dropout_prob_grazing = 0.0;
+  d.shiny_cluster_prob = d.rough_outlier_prob = 0.0;
+  const vts::Mesh mesh = plate(z, 15.0);
+  auto reference = vts::make_reference_source(d, mesh, 1);
+  vts::CameraRenderer renderer(d, mesh);
+  vts::RayScene scene(mesh, "test");
+  const vts::CameraModel cam = vts::camera_model(d);
+  vts::RadianceImage rad;
+  vts::LaserPaths paths;
+  vts::CameraImage image;
+  vts::stripe::PeakResult peaks;
+  vts::Profile ideal, measured, geometric;
+  vts::ScanState state;
+  double sum_image = 0.0, sum_geo = 0.0;
+  int n_image = 0, n_geo = 0;
+  for (int index = 0; index < 6; ++index) {
+    const vts::Pose pose(Eigen::Translation3d(0.3 * index, 0.0, 0.0));
+    reference->scan(pose, ideal);
+    ideal.index = index;
+    renderer.render(pose, rad);
+    vts::trace_laser_paths(d, scene, pose, paths);
+    vts::form_image(d, rad, paths, 5, index, image);
+    vts::detect_stripe(d, image, peaks);
+    vts::profile_from_peaks(d, image, peaks, ideal, measured);
+    vts::apply_error_model(d, ideal, state, geometric);
+    for (int i = 0; i < d.points; ++i) {
+      if (!ideal.valid[i]) continue;
+      const double truth = vts::image_row_px(cam, ideal.z_mm[i]);
+      if (measured.valid[i]) {
+        const double e = vts::image_row_px(cam, measured.z_mm[i]) - truth;
+        sum_image += e * e;
+        ++n_image;
+      }
+      if (geometric.valid[i]) {
+        const double e = vts::image_row_px(cam, geometric.z_mm[i]) - truth;
+        sum_geo += e * e;
+        ++n_geo;
+      }
+    }
+  }
+  REQUIRE(n_image > 2500);
+  REQUIRE(n_geo > 2500);
+  const double rms_image = std::sqrt(sum_image / n_image), rms_geo = std::sqrt(sum_geo / n_geo);
+  INFO("row error rms: image " << rms_image << " px, geometric model " << rms_geo << " px");
+  CHECK(rms_image == Approx(rms_geo).epsilon(0.2));
+}
