@@ -129,6 +129,17 @@ struct LapParams {
   // plate near its edge into short pieces, and their points off its line
   // were fitted into the face (angle 117 instead of 90 degrees).
   bool upper_reaches = true;
+  // With the edge face hidden, the top edge is checked against the points
+  // around it (docs/JOINTS.md "Lap"): it lies past the upper plate's last
+  // point and its edge preparation's (points between the plates' levels)
+  // and short of where the first ray that reached the lower plate beyond
+  // it crosses the upper plate's line. A reading is rejected ("uncertain")
+  // when such points lie more than edge_past_mm past the edge as read, or
+  // when that interval reaches more than edge_interval_mm from it on either
+  // side (a rounded, chamfered or shadowed edge: not placed to 1 mm).
+  bool check_edge = true;
+  double edge_past_mm = 0.5;
+  double edge_interval_mm = 1.25;
 };
 
 struct ButtParams {

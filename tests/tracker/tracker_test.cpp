@@ -893,6 +893,39 @@ TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   CHECK(std::isnan(r.angle_deg));
 }
 
+TEST_CASE("lap: a top edge the points do not place to 1 mm is uncertain", "[tracker][lap]") {
+  // The hidden-face lap above (upper plate up to y = 20 at z = 96, lower
+  // plate at z = 100 beyond). A shadow over the columns from y = 18 on, up
+  // to the first ray that reaches the lower plate: the edge lies anywhere
+  // from the upper plate's last point (y < 18) to where that ray crosses
+  // z = 96 (past y = 20): more than 1.25 mm from wherever it is read.
+  auto p = synth::sample({{Vec2(-80, 96), Vec2(20, 96)}, {Vec2(20, 96), Vec2(20, 100)},
+                          {Vec2(20, 100), Vec2(80, 100)}});
+  const int first = column_at(p, 18.0), lower = column_at(p, 20.1);
+  REQUIRE(p.z[lower] > 99.0f);
+  p.invalidate(first, lower + 4);
+  tk::TrackerParams params;
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason);
+  CHECK(r.status == tk::TrackStatus::Rejected);
+  CHECK(r.reason.rfind("uncertain: the upper plate's edge may lie", 0) == 0);
+  params.lap.check_edge = false;  // read at the plate's last point, 2 mm short of the edge
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK((*r2.track_point - Vec2(20, 100)).norm() > 1.5);
+
+  // A 45-degree chamfer 1 mm wide at the edge, and a dropout over the
+  // upper plate's last 1.5 mm before it: the chamfer's points lie past the
+  // plate's last point, between the plates' levels, so the edge cannot be
+  // where the plate's points end.
+  auto q = synth::sample({{Vec2(-80, 96), Vec2(19, 96)}, {Vec2(19, 96), Vec2(20, 97)}, {Vec2(20, 97), Vec2(20, 100)},
+                          {Vec2(20, 100), Vec2(80, 100)}});
+  q.invalidate(column_at(q, 17.5), column_at(q, 19.0) - 1);
+  const auto r3 = track(q, tk::JointType::Lap);
+  INFO(r3.reason);
+  CHECK(!(r3.status == tk::TrackStatus::Ok && (*r3.track_point - Vec2(20, 100)).norm() > 1.0));
+}
+
 TEST_CASE("lap noisy: a few upper plate points between the step and a dropout are kept", "[tracker][lap]") {
   // Lower plate at 250 mm up to y = 0, the upper plate's top 4 mm nearer from
   // there on, its edge face hidden (seen edge-on). The upper plate's first 4
