@@ -140,6 +140,12 @@ struct LapParams {
   bool check_edge = true;
   double edge_past_mm = 0.5;
   double edge_interval_mm = 1.25;
+  // With square edges (TrackerParams::square_edges) the edge face is square
+  // to the upper plate: points between the plates on a line more than this
+  // far from square are its edge preparation (a chamfer, a rounding), the
+  // face hidden below them. A sensor's pitch and yaw shear a square corner
+  // by a few degrees.
+  double max_face_off_square_deg = 10.0;
 };
 
 struct ButtParams {

@@ -1152,9 +1152,11 @@ class Matcher {
         if (scratch_.size() >= 3) wall = fit_line(scratch_);
         std::optional<Vec2> wf, wt;
         // With square edges the face must be near square to the upper
-        // plate: points between the plates at 45 degrees are a chamfered or
-        // rounded top edge, the face itself hidden below it.
-        if (wall && p_.square_edges && acute_angle_deg(wall->line, upper.line) < 55.0) wall.reset();
+        // plate (LapParams::max_face_off_square_deg): points between the
+        // plates on a slanted line are a chamfered or rounded top edge, the
+        // face itself hidden below it.
+        if (wall && p_.square_edges && acute_angle_deg(wall->line, upper.line) < 90.0 - lp.max_face_off_square_deg)
+          wall.reset();
         if (wall) {
           wall->line.orient_towards(origin_);
           wf = intersect(wall->line, lower.line, std::sin(20.0 * kDeg));

@@ -877,6 +877,25 @@ TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap
   CHECK((*r.break_points[3] - Vec2(20, 96)).norm() < 1e-3);
 }
 
+TEST_CASE("lap: an edge face far from square to the upper plate is its edge preparation", "[tracker][lap]") {
+  // The lap above with its edge face leaning: 5 degrees off square (a
+  // sensor's pitch and yaw shear a square edge so) is the face, read with
+  // its angle to the lower plate, 90 + 5 degrees; 14 degrees off square
+  // (a 1 mm slope over the 4 mm step) is not: no face is read.
+  const double lean5 = 4.0 * std::tan(5.0 * std::numbers::pi / 180.0);
+  const auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20 + lean5, 96), Vec2(20, 100)},
+                                {Vec2(20 + lean5, 96), Vec2(80, 96)}});
+  const auto r = track(p, tk::JointType::Lap);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(95.0).margin(0.01));
+  const auto q = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(21, 96), Vec2(20, 100)},
+                                {Vec2(21, 96), Vec2(80, 96)}});
+  const auto r2 = track(q, tk::JointType::Lap);
+  INFO(tk::to_string(r2.status) << " " << r2.reason << ", angle " << r2.angle_deg);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::isfinite(r2.angle_deg)));
+}
+
 TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   // The upper plate on the left up to y = 20: its edge face there faces
   // away from the sensor, and it hides the lower plate just beyond the edge.
@@ -984,7 +1003,9 @@ TEST_CASE("lap noisy: points the upper plate reaches over are no edge face", "[t
   // off the upper plate as a short piece (too far to merge), and the third
   // of them lies 0.29 mm in front of the plate (noise). The plate reaches
   // over the piece, past that point, so the face is fitted without it;
-  // without the rule that point is fitted into the face.
+  // without the rule that point is fitted into the face. The face leans 27
+  // degrees from square: read as a face only with a wider
+  // LapParams::max_face_off_square_deg.
   auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20, 100), Vec2(22, 96)},
                           {Vec2(22, 96), Vec2(80, 96)}});
   int u = column_at(p, 22.0);  // the upper plate's first column
@@ -992,6 +1013,7 @@ TEST_CASE("lap noisy: points the upper plate reaches over are no edge face", "[t
   along_ray(p, u + 2, -0.29);
   p.invalidate(u + 6, u + 15);
   auto params = noisy_params(0.05);
+  params.lap.max_face_off_square_deg = 30.0;
   const double angle = std::acos(Vec2(-1, 0).dot(Vec2(2, -4).normalized())) * 180.0 / std::numbers::pi;
   const auto r = track(p, tk::JointType::Lap, params);
   INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
