@@ -187,6 +187,12 @@ struct VGrooveParams {
   // cuts a short piece off the top, or leaves one across the edge. The
   // pieces' points on the bevel's line and off the top's count for the bevel.
   bool short_bevel_across_pieces = true;
+  // The plate tops are one plane: a pair of tops more than this far from
+  // parallel has taken a bevel or a root face for a top (the nearest long
+  // segment beside a bevel), and the reading is made without them (a short
+  // bevel keeps the top it needs). The butt's and lap's plates are held
+  // to the same angle.
+  double max_top_angle_deg = 15.0;
 };
 
 // The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md

@@ -2421,6 +2421,11 @@ class Matcher {
         break;
       }
       if ((i_short && !tl) || (j_short && !tr)) return;
+      // The tops must be one plane (VGrooveParams::max_top_angle_deg).
+      if (tl && tr && acute_angle_deg(tl->line, tr->line) > vp.max_top_angle_deg) {
+        if (!i_short) tl.reset();
+        if (!j_short) tr.reset();
+      }
       const int from = bl.last + 1, to = br.first - 1;
       Edge el{pr->x, 0.0}, er{pr->x, 0.0};
       // Bevels that meet between two neighbouring rays are a closed root; a run

@@ -731,6 +731,23 @@ TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
   CHECK(r.depth_mm == Approx(10.0).margin(1e-3));
 }
 
+TEST_CASE("v-groove: plate tops that are not one plane are no tops", "[tracker][vgroove]") {
+  // The closed root above; the second "top" rises at 20 degrees to the
+  // first (a bevel or a root face taken for it): the root is read, without
+  // tops, depth or area.
+  const Vec2 root(0.4, 120);
+  const double run = 10.0 * std::tan(std::numbers::pi / 6), rise = 20.0 * std::numbers::pi / 180.0;
+  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
+  const Vec2 far = rt + 40.0 * Vec2(std::cos(rise), -std::sin(rise));
+  const auto p = synth::sample({{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, far}});
+  const auto r = track(p, tk::JointType::VGroove);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+  CHECK(std::isnan(r.depth_mm));
+  CHECK(!r.break_points[1]);
+  CHECK(!r.break_points[5]);
+}
+
 TEST_CASE("v-groove: a bevel seen edge-on with three points left after dropouts", "[tracker][vgroove]") {
   // 8 mm deep, 1 mm root opening; the first bevel at 30 degrees from the
   // plate normal, the second one nearly along the rays (7 degrees): few columns
