@@ -129,6 +129,23 @@ struct LapParams {
   // plate near its edge into short pieces, and their points off its line
   // were fitted into the face (angle 117 instead of 90 degrees).
   bool upper_reaches = true;
+  // With the edge face hidden, the top edge is checked against the points
+  // around it (docs/JOINTS.md "Lap"): it lies past the upper plate's last
+  // point and its edge preparation's (points between the plates' levels)
+  // and short of where the first ray that reached the lower plate beyond
+  // it crosses the upper plate's line. A reading is rejected ("uncertain")
+  // when such points lie more than edge_past_mm past the edge as read, or
+  // when that interval reaches more than edge_interval_mm from it on either
+  // side (a rounded, chamfered or shadowed edge: not placed to 1 mm).
+  bool check_edge = true;
+  double edge_past_mm = 0.5;
+  double edge_interval_mm = 1.25;
+  // With square edges (TrackerParams::square_edges) the edge face is square
+  // to the upper plate: points between the plates on a line more than this
+  // far from square are its edge preparation (a chamfer, a rounding), the
+  // face hidden below them. A sensor's pitch and yaw shear a square corner
+  // by a few degrees.
+  double max_face_off_square_deg = 10.0;
 };
 
 struct ButtParams {
@@ -170,6 +187,12 @@ struct VGrooveParams {
   // cuts a short piece off the top, or leaves one across the edge. The
   // pieces' points on the bevel's line and off the top's count for the bevel.
   bool short_bevel_across_pieces = true;
+  // The plate tops are one plane: a pair of tops more than this far from
+  // parallel has taken a bevel or a root face for a top (the nearest long
+  // segment beside a bevel), and the reading is made without them (a short
+  // bevel keeps the top it needs). The butt's and lap's plates are held
+  // to the same angle.
+  double max_top_angle_deg = 15.0;
 };
 
 // The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md

@@ -1152,9 +1152,11 @@ class Matcher {
         if (scratch_.size() >= 3) wall = fit_line(scratch_);
         std::optional<Vec2> wf, wt;
         // With square edges the face must be near square to the upper
-        // plate: points between the plates at 45 degrees are a chamfered or
-        // rounded top edge, the face itself hidden below it.
-        if (wall && p_.square_edges && acute_angle_deg(wall->line, upper.line) < 55.0) wall.reset();
+        // plate (LapParams::max_face_off_square_deg): points between the
+        // plates on a slanted line are a chamfered or rounded top edge, the
+        // face itself hidden below it.
+        if (wall && p_.square_edges && acute_angle_deg(wall->line, upper.line) < 90.0 - lp.max_face_off_square_deg)
+          wall.reset();
         if (wall) {
           wall->line.orient_towards(origin_);
           wf = intersect(wall->line, lower.line, std::sin(20.0 * kDeg));
@@ -1230,9 +1232,84 @@ class Matcher {
         if (wall) c.add_line(wall->line);
         c.accepted = check(c, "step", c.step, lp.step_mm, "mm") && check(c, "gap", c.gap, lp.gap_mm, "mm") &&
                      check(c, "angle", c.angle, lp.angle_deg, "deg");
+        // The model check: with the face hidden, the top edge as read must
+        // lie where the points around it allow (LapParams::check_edge).
+        if (!wall && lp.check_edge && c.accepted) {
+          const EdgeInterval iv = edge_interval(lower, upper, upper_is_b ? b.first : a.last,
+                                                upper_is_b ? a.last : b.first, top);
+          if (iv.past > lp.edge_past_mm) {
+            c.accepted = false;
+            std::snprintf(c.reason, sizeof c.reason,
+                          "uncertain: points %.2g mm past the upper plate's edge as read lie between the plates "
+                          "(a rounded or chamfered edge?)",
+                          iv.past);
+          } else if (std::max(iv.after, iv.before) > lp.edge_interval_mm) {
+            c.accepted = false;
+            std::snprintf(c.reason, sizeof c.reason,
+                          "uncertain: the upper plate's edge may lie %.2g mm from where it is read (between its "
+                          "last point and the first ray past it)",
+                          std::max(iv.after, iv.before));
+          }
+        }
         offer(c);
       }
     }
+  }
+
+  // Where a lap's top edge can lie, along the upper plate's line from the
+  // edge `top` as read (outwards positive), from the columns between the
+  // upper plate's end (point u_i) and the lower plate's (l_i): the last point
+  // of the upper plate or its edge preparation (on the upper line, or
+  // between the plates' levels) before the first point on the lower plate's
+  // line, whose ray has passed the edge.
+  struct EdgeInterval {
+    double past = 0.0;    // how far that last point lies past `top` (0: not past it)
+    double after = 0.0;   // how far past `top` that ray crosses the upper line
+    double before = 0.0;  // how far `top` lies past that last point
+  };
+  EdgeInterval edge_interval(const Plate& lower, const Plate& upper, int u_i, int l_i, const Vec2& top) const {
+    const Vec2 dir = outward(upper, top);
+    const double at = top.dot(dir);
+    const int c0 = s_.cols[u_i], c1 = s_.cols[l_i], step = c1 > c0 ? 1 : -1;
+    double last = pt(u_i).dot(dir) - at;
+    std::optional<double> passed;
+    // The point seen in a column: kept, or removed as an outlier.
+    auto at_col = [&](int col) -> std::optional<Vec2> {
+      const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), col);
+      if (it != s_.cols.end() && *it == col) return pt(static_cast<int>(it - s_.cols.begin()));
+      const auto jt = std::lower_bound(s_.outlier_cols.begin(), s_.outlier_cols.end(), col);
+      if (jt != s_.outlier_cols.end() && *jt == col)
+        return s_.outlier_points[static_cast<std::size_t>(jt - s_.outlier_cols.begin())];
+      return std::nullopt;
+    };
+    // The points of the plate and its edge preparation (on the upper line,
+    // or behind it by at most kMaxRoundingMm and off the lower plate) first:
+    // a ray that reached the lower plate before one of them did not pass the
+    // edge (a reflection cluster can lie there).
+    int last_col = c0;
+    for (int col = c0 + step; col != c1; col += step) {
+      if (s_.column_state[col] == kColumnInvalid) continue;
+      const auto q = at_col(col);
+      if (!q) continue;
+      const double du = upper.line.signed_distance(*q), dl = lower.line.signed_distance(*q);
+      if (std::abs(du) <= tol_ || (du < -tol_ && du >= -kMaxRoundingMm && dl > tol_)) {
+        last = std::max(last, q->dot(dir) - at);
+        last_col = col;
+      }
+    }
+    for (int col = last_col + step; col != c1 && !passed; col += step) {
+      if (s_.column_state[col] == kColumnInvalid) continue;
+      const auto q = at_col(col);
+      if (q && lower.line.distance(*q) <= tol_) {
+        const auto x = ray_hit(col, upper.line);
+        passed = x ? x->dot(dir) - at : 0.0;
+      }
+    }
+    if (!passed) {
+      const auto x = ray_hit(c1, upper.line);
+      passed = x ? x->dot(dir) - at : 0.0;
+    }
+    return EdgeInterval{std::max(0.0, last), std::max(0.0, *passed), std::max(0.0, -last)};
   }
 
   // Longest run of consecutive invalid columns strictly between columns a < b.
@@ -2344,6 +2421,11 @@ class Matcher {
         break;
       }
       if ((i_short && !tl) || (j_short && !tr)) return;
+      // The tops must be one plane (VGrooveParams::max_top_angle_deg).
+      if (tl && tr && acute_angle_deg(tl->line, tr->line) > vp.max_top_angle_deg) {
+        if (!i_short) tl.reset();
+        if (!j_short) tr.reset();
+      }
       const int from = bl.last + 1, to = br.first - 1;
       Edge el{pr->x, 0.0}, er{pr->x, 0.0};
       // Bevels that meet between two neighbouring rays are a closed root; a run

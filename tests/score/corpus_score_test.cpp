@@ -31,8 +31,8 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {89, 0.60}},     {tk::JointType::Butt, {48, 0.75}},
-      {tk::JointType::VGroove, {84, 0.71}},
+      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {48, 0.75}},
+      {tk::JointType::VGroove, {76, 0.72}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -196,7 +196,11 @@ TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][
   // of the bevels' points lost none for them). Weighed over the union of
   // their windows in one noise model, the two are as strong: the profile is
   // rejected as ambiguous, with the true joint among its readings (truth
-  // from the corpus' section).
+  // from the corpus' section). Since a v-groove's plate tops must be one
+  // plane, the v-groove's 36 and 113 read right (their false reading took a
+  // bevel for a plate top) and 243 is rejected by the groove model beside
+  // the template: none may be a false read, and a profile rejected as
+  // ambiguous must have the true joint among its readings.
   struct Case {
     vc::Joint joint;
     std::uint64_t seed;
@@ -213,6 +217,10 @@ TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][
     INFO(vc::joint_name(c.joint) << " seed " << c.seed << " level " << c.level << ": " << tk::to_string(r.status)
                                  << " " << r.reason << ", error " << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
+    if (c.joint == vc::Joint::VGroove && r.reason.rfind("ambiguous", 0) != 0) {
+      CHECK((one.scored.outcome == tk::Outcome::Right || r.status == tk::TrackStatus::Rejected));
+      continue;
+    }
     CHECK(r.status == tk::TrackStatus::Rejected);
     CHECK(r.reason.rfind("ambiguous", 0) == 0);
     const tk::Vec2 truth(one.profile.truth.track_y_mm, one.profile.truth.track_z_mm);

@@ -731,6 +731,23 @@ TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
   CHECK(r.depth_mm == Approx(10.0).margin(1e-3));
 }
 
+TEST_CASE("v-groove: plate tops that are not one plane are no tops", "[tracker][vgroove]") {
+  // The closed root above; the second "top" rises at 20 degrees to the
+  // first (a bevel or a root face taken for it): the root is read, without
+  // tops, depth or area.
+  const Vec2 root(0.4, 120);
+  const double run = 10.0 * std::tan(std::numbers::pi / 6), rise = 20.0 * std::numbers::pi / 180.0;
+  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
+  const Vec2 far = rt + 40.0 * Vec2(std::cos(rise), -std::sin(rise));
+  const auto p = synth::sample({{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, far}});
+  const auto r = track(p, tk::JointType::VGroove);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - root).norm() < 1e-3);
+  CHECK(std::isnan(r.depth_mm));
+  CHECK(!r.break_points[1]);
+  CHECK(!r.break_points[5]);
+}
+
 TEST_CASE("v-groove: a bevel seen edge-on with three points left after dropouts", "[tracker][vgroove]") {
   // 8 mm deep, 1 mm root opening; the first bevel at 30 degrees from the
   // plate normal, the second one nearly along the rays (7 degrees): few columns
@@ -877,6 +894,25 @@ TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap
   CHECK((*r.break_points[3] - Vec2(20, 96)).norm() < 1e-3);
 }
 
+TEST_CASE("lap: an edge face far from square to the upper plate is its edge preparation", "[tracker][lap]") {
+  // The lap above with its edge face leaning: 5 degrees off square (a
+  // sensor's pitch and yaw shear a square edge so) is the face, read with
+  // its angle to the lower plate, 90 + 5 degrees; 14 degrees off square
+  // (a 1 mm slope over the 4 mm step) is not: no face is read.
+  const double lean5 = 4.0 * std::tan(5.0 * std::numbers::pi / 180.0);
+  const auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20 + lean5, 96), Vec2(20, 100)},
+                                {Vec2(20 + lean5, 96), Vec2(80, 96)}});
+  const auto r = track(p, tk::JointType::Lap);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - Vec2(20, 100)).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(95.0).margin(0.01));
+  const auto q = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(21, 96), Vec2(20, 100)},
+                                {Vec2(21, 96), Vec2(80, 96)}});
+  const auto r2 = track(q, tk::JointType::Lap);
+  INFO(tk::to_string(r2.status) << " " << r2.reason << ", angle " << r2.angle_deg);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && std::isfinite(r2.angle_deg)));
+}
+
 TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   // The upper plate on the left up to y = 20: its edge face there faces
   // away from the sensor, and it hides the lower plate just beyond the edge.
@@ -891,6 +927,39 @@ TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   CHECK(r.step_mm == Approx(4.0).margin(1e-3));
   CHECK(r.gap_mm == Approx(1.0).margin(1e-3));  // step 4 - thickness 3
   CHECK(std::isnan(r.angle_deg));
+}
+
+TEST_CASE("lap: a top edge the points do not place to 1 mm is uncertain", "[tracker][lap]") {
+  // The hidden-face lap above (upper plate up to y = 20 at z = 96, lower
+  // plate at z = 100 beyond). A shadow over the columns from y = 18 on, up
+  // to the first ray that reaches the lower plate: the edge lies anywhere
+  // from the upper plate's last point (y < 18) to where that ray crosses
+  // z = 96 (past y = 20): more than 1.25 mm from wherever it is read.
+  auto p = synth::sample({{Vec2(-80, 96), Vec2(20, 96)}, {Vec2(20, 96), Vec2(20, 100)},
+                          {Vec2(20, 100), Vec2(80, 100)}});
+  const int first = column_at(p, 18.0), lower = column_at(p, 20.1);
+  REQUIRE(p.z[lower] > 99.0f);
+  p.invalidate(first, lower + 4);
+  tk::TrackerParams params;
+  const auto r = track(p, tk::JointType::Lap, params);
+  INFO(r.reason);
+  CHECK(r.status == tk::TrackStatus::Rejected);
+  CHECK(r.reason.rfind("uncertain: the upper plate's edge may lie", 0) == 0);
+  params.lap.check_edge = false;  // read at the plate's last point, 2 mm short of the edge
+  const auto r2 = track(p, tk::JointType::Lap, params);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK((*r2.track_point - Vec2(20, 100)).norm() > 1.5);
+
+  // A 45-degree chamfer 1 mm wide at the edge, and a dropout over the
+  // upper plate's last 1.5 mm before it: the chamfer's points lie past the
+  // plate's last point, between the plates' levels, so the edge cannot be
+  // where the plate's points end.
+  auto q = synth::sample({{Vec2(-80, 96), Vec2(19, 96)}, {Vec2(19, 96), Vec2(20, 97)}, {Vec2(20, 97), Vec2(20, 100)},
+                          {Vec2(20, 100), Vec2(80, 100)}});
+  q.invalidate(column_at(q, 17.5), column_at(q, 19.0) - 1);
+  const auto r3 = track(q, tk::JointType::Lap);
+  INFO(r3.reason);
+  CHECK(!(r3.status == tk::TrackStatus::Ok && (*r3.track_point - Vec2(20, 100)).norm() > 1.0));
 }
 
 TEST_CASE("lap noisy: a few upper plate points between the step and a dropout are kept", "[tracker][lap]") {
@@ -951,7 +1020,9 @@ TEST_CASE("lap noisy: points the upper plate reaches over are no edge face", "[t
   // off the upper plate as a short piece (too far to merge), and the third
   // of them lies 0.29 mm in front of the plate (noise). The plate reaches
   // over the piece, past that point, so the face is fitted without it;
-  // without the rule that point is fitted into the face.
+  // without the rule that point is fitted into the face. The face leans 27
+  // degrees from square: read as a face only with a wider
+  // LapParams::max_face_off_square_deg.
   auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20, 100), Vec2(22, 96)},
                           {Vec2(22, 96), Vec2(80, 96)}});
   int u = column_at(p, 22.0);  // the upper plate's first column
@@ -959,6 +1030,7 @@ TEST_CASE("lap noisy: points the upper plate reaches over are no edge face", "[t
   along_ray(p, u + 2, -0.29);
   p.invalidate(u + 6, u + 15);
   auto params = noisy_params(0.05);
+  params.lap.max_face_off_square_deg = 30.0;
   const double angle = std::acos(Vec2(-1, 0).dot(Vec2(2, -4).normalized())) * 180.0 / std::numbers::pi;
   const auto r = track(p, tk::JointType::Lap, params);
   INFO(r.reason << ", " << r.segments.size() << " segments, " << r.outliers << " outliers");
