@@ -230,7 +230,7 @@ struct CameraRenderer::Impl {
       set(p, "diffuse", static_cast<float>(desc.reflectivity));
       set(p, "slab", Eigen::Vector3d(desc.sheet_waist_mm, desc.sheet_focus_mm, rayleigh));
       set(p, "slab_footprint",
-          static_cast<float>((4.0 + 4.0 * desc.psf_sigma_px) * desc.pixel_pitch_um * 1e-3 / desc.focal_length_mm));
+          static_cast<float>((2.0 + 3.0 * desc.psf_sigma_px) * desc.pixel_pitch_um * 1e-3 / desc.focal_length_mm));
       if (p == ambient_program) {
         set(p, "ambient", static_cast<float>(desc.ambient_w_m2 * 1e-6));
         glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);

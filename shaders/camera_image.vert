@@ -21,12 +21,12 @@ uniform float first_row;
 uniform vec2 depth_ab;     // z_clip = a D + b
 
 // The laser pass draws only the slab around the sheet where it can light
-// anything: |x| <= 4 w(r) + (4 + 4 psf) r pitch / f (the sheet's 1/e^2 half
-// thickness w, sensor/camera_image.h, and four pixel footprints and four
-// lens blurs), as two clip distances. w(r) is convex in r, so its linear interpolation across
+// anything: |x| <= 3 w(r) + (2 + 3 psf) r pitch / f (the sheet's 1/e^2 half
+// thickness w, where it has fallen to exp(-18), sensor/camera_image.h; two
+// pixel footprints and three lens blurs), as two clip distances. w(r) is convex in r, so its linear interpolation across
 // a triangle only widens the slab.
 uniform vec3 slab;          // waist, focus, Rayleigh range (mm)
-uniform float slab_footprint;  // (4 + 4 psf) pitch / f: the margin per mm of range
+uniform float slab_footprint;  // (2 + 3 psf) pitch / f: the margin per mm of range
 
 out vec3 p_sensor;
 
@@ -34,7 +34,7 @@ void main() {
   p_sensor = (sensor_from_mesh * vec4(position, 1.0)).xyz;
   float r = length(p_sensor);
   float q = (r - slab.y) / slab.z;
-  float half_width = 4.0 * slab.x * sqrt(1.0 + q * q) + r * slab_footprint;
+  float half_width = 3.0 * slab.x * sqrt(1.0 + q * q) + r * slab_footprint;
   gl_ClipDistance[0] = half_width - p_sensor.x;
   gl_ClipDistance[1] = half_width + p_sensor.x;
   vec3 x = cam_rot * (p_sensor - cam_centre);
