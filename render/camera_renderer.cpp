@@ -183,9 +183,7 @@ struct CameraRenderer::Impl {
     Eigen::Matrix4d m = (sensor_from_world * Eigen::Translation3d(mesh_centre)).matrix();
     const Eigen::Matrix4f mf = m.cast<float>();
     const double fan_rad = desc.fan_deg * std::numbers::pi / 180.0;
-    const double lambda_mm = desc.wavelength_nm * 1e-6;
-    const double rayleigh =
-        std::numbers::pi * desc.sheet_waist_mm * desc.sheet_waist_mm / (desc.sheet_m2 * lambda_mm);
+    const double rayleigh = sheet_rayleigh_mm(desc);
 
     glBindVertexArray(vao);
     glEnable(GL_DEPTH_TEST);

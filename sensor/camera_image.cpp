@@ -118,13 +118,14 @@ std::vector<int>& scratch_hi() { thread_local std::vector<int> v; return v; }
 }  // namespace
 
 CameraGeometry camera_geometry(const ScannerDesc& d) {
+  // The error model's pinhole (centre, axis, F), with the image axes beside it.
+  const CameraModel model = camera_model(d);
   CameraGeometry cam;
-  const double theta = d.triangulation_deg * kDeg;
-  cam.centre = Eigen::Vector3d(d.baseline_mm, 0.0, d.baseline_mm * std::tan(theta));
-  cam.camera_from_sensor.row(0) = Eigen::Vector3d(std::cos(theta), 0.0, std::sin(theta));
+  cam.centre = model.centre_mm;
+  cam.camera_from_sensor.row(0) = Eigen::Vector3d(model.cos_theta, 0.0, -model.axis.x());
   cam.camera_from_sensor.row(1) = Eigen::Vector3d(0.0, 1.0, 0.0);
-  cam.camera_from_sensor.row(2) = Eigen::Vector3d(-std::sin(theta), 0.0, std::cos(theta));
-  cam.f_px = d.focal_length_mm / (d.pixel_pitch_um * 1e-3);
+  cam.camera_from_sensor.row(2) = model.axis.transpose();
+  cam.f_px = model.f_px;
   cam.cos_tilt = std::cos(d.scheimpflug_deg * kDeg);
   cam.sin_tilt = std::sin(d.scheimpflug_deg * kDeg);
   cam.width = d.image_width_px;
@@ -160,10 +161,12 @@ bool triangulate(const CameraGeometry& cam, double column, double row, Eigen::Ve
   return true;
 }
 
+double sheet_rayleigh_mm(const ScannerDesc& d) {
+  return std::numbers::pi * d.sheet_waist_mm * d.sheet_waist_mm / (d.sheet_m2 * d.wavelength_nm * 1e-6);
+}
+
 double sheet_half_thickness_mm(const ScannerDesc& d, double range_mm) {
-  const double lambda_mm = d.wavelength_nm * 1e-6;
-  const double z_r = std::numbers::pi * d.sheet_waist_mm * d.sheet_waist_mm / (d.sheet_m2 * lambda_mm);
-  const double t = (range_mm - d.sheet_focus_mm) / z_r;
+  const double t = (range_mm - d.sheet_focus_mm) / sheet_rayleigh_mm(d);
   return d.sheet_waist_mm * std::sqrt(1.0 + t * t);
 }
 
@@ -210,6 +213,7 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   const Eigen::Vector3d axis_world = rot * cam.camera_from_sensor.row(2).transpose();
   const bool bounce = d.specular_reflectance > 0.0;
   const Eigen::Vector3d plane_normal = rot.col(0);  // the laser plane's normal, world
+  const Pose sensor_from_world = world_from_sensor.inverse();
 
   struct Sample {
     double col, row;
@@ -237,7 +241,7 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
       continue;
     const Eigen::Vector3d p = origin + static_cast<double>(hit.t) * dir;
     const Eigen::Vector3d n = hit.normal.cast<double>();
-    const Eigen::Vector3d p_s = world_from_sensor.inverse() * p;
+    const Eigen::Vector3d p_s = sensor_from_world * p;
     if (p_s.z() < d.min_range_mm || p_s.z() > d.max_range_mm) continue;
     Eigen::Vector2d cr;
     const Eigen::Vector3d to_cam = cam_world - p;
@@ -282,7 +286,6 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     across /= across_norm;
     const double sigma_surface = std::min(50.0, sigma_b / std::max(0.05, std::abs(mn.dot(across))));
     Eigen::Vector2d qa, qb;
-    const Pose sensor_from_world = world_from_sensor.inverse();
     if (!project(cam, sensor_from_world * q, qa) ||
         !project(cam, sensor_from_world * (q + sigma_surface * across), qb))
       continue;

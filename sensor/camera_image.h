@@ -58,6 +58,8 @@ bool triangulate(const CameraGeometry& cam, double column, double row, Eigen::Ve
 // w0 at sheet_focus_mm with quality M^2,
 //   w(r) = w0 sqrt(1 + ((r - r_f) / z_R)^2),  z_R = pi w0^2 / (M^2 lambda).
 double sheet_half_thickness_mm(const ScannerDesc& desc, double range_mm);
+// z_R = pi w0^2 / (M^2 lambda), mm: the renderer's shader takes it as is.
+double sheet_rayleigh_mm(const ScannerDesc& desc);
 
 // Electrons per unit image radiance (W/(mm^2 sr)) in one pixel during one
 // exposure: the camera equation E = L pi / (4 N^2) times the pixel area, the
