@@ -194,6 +194,75 @@ std::pair<int, int> image_roi(const ScannerDesc& d) {
   return {d.image_roi_first_row, d.image_roi_rows};
 }
 
+namespace {
+
+// One secondary band of laser light in the image (the bounce, a mirror
+// image): where its centre images, its std dev across the stripe (px) and
+// its peak radiance.
+struct BandSample {
+  double col = 0.0, row = 0.0, sigma = 0.0, radiance = 0.0;
+  bool valid = false;
+};
+
+// Resamples per-ray bands to the integer image columns between neighbouring
+// samples that continue each other (at most `join` px apart); where two
+// pieces cross a column, the brighter is kept.
+void resample_bands(const std::vector<BandSample>& samples, double join, std::vector<float>& row,
+                    std::vector<float>& sigma, std::vector<float>& radiance) {
+  const int w = static_cast<int>(row.size());
+  for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
+    const BandSample& a = samples[i];
+    const BandSample& b = samples[i + 1];
+    if (!a.valid || !b.valid || std::abs(a.col - b.col) > join || std::abs(a.row - b.row) > join) continue;
+    const double lo = std::min(a.col, b.col), hi = std::max(a.col, b.col);
+    for (int k = static_cast<int>(std::ceil(lo)); k <= static_cast<int>(std::floor(hi)); ++k) {
+      if (k < 0 || k >= w) continue;
+      const double f = hi > lo ? (k - a.col) / (b.col - a.col) : 0.0;
+      const double rad = a.radiance + f * (b.radiance - a.radiance);
+      if (rad <= radiance[static_cast<std::size_t>(k)]) continue;
+      row[static_cast<std::size_t>(k)] = static_cast<float>(a.row + f * (b.row - a.row));
+      sigma[static_cast<std::size_t>(k)] = static_cast<float>(a.sigma + f * (b.sigma - a.sigma));
+      radiance[static_cast<std::size_t>(k)] = static_cast<float>(rad);
+    }
+  }
+}
+
+// A plane of the part the laser lights (a run of primary hits on one
+// plane): a candidate mirror for the camera-side path.
+struct MirrorPlane {
+  Eigen::Vector3d point, normal;  // world; normal towards the laser
+  int hits = 0;
+};
+
+// Clusters consecutive primary hits into planes: normals within 1 degree
+// and points within 0.05 mm of the run's first plane. Keeps runs of at
+// least 3 hits, the 16 largest.
+std::vector<MirrorPlane> lit_planes(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n,
+                                    const std::vector<char>& hit) {
+  std::vector<MirrorPlane> planes;
+  const double cos_tol = std::cos(1.0 * kDeg);
+  MirrorPlane run;
+  const auto close = [&] {
+    if (run.hits >= 3) planes.push_back(run);
+    run.hits = 0;
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!hit[i]) {
+      close();
+      continue;
+    }
+    if (run.hits > 0 && (run.normal.dot(n[i]) < cos_tol || std::abs(run.normal.dot(p[i] - run.point)) > 0.05)) close();
+    if (run.hits == 0) run = {p[i], n[i], 0};
+    ++run.hits;
+  }
+  close();
+  std::stable_sort(planes.begin(), planes.end(), [](const MirrorPlane& a, const MirrorPlane& b) { return a.hits > b.hits; });
+  if (planes.size() > 16) planes.resize(16);
+  return planes;
+}
+
+}  // namespace
+
 void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& world_from_sensor,
                        LaserPaths& out) {
   const CameraGeometry cam = camera_geometry(d);
@@ -202,6 +271,9 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   out.bounce_row.assign(static_cast<std::size_t>(w), kNaN);
   out.bounce_sigma.assign(static_cast<std::size_t>(w), 0.0f);
   out.bounce_radiance.assign(static_cast<std::size_t>(w), 0.0f);
+  out.mirror_row.assign(static_cast<std::size_t>(w), kNaN);
+  out.mirror_sigma.assign(static_cast<std::size_t>(w), 0.0f);
+  out.mirror_radiance.assign(static_cast<std::size_t>(w), 0.0f);
 
   const Eigen::Matrix3d rot = world_from_sensor.linear();
   const Eigen::Vector3d origin = world_from_sensor.translation();
@@ -214,17 +286,37 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   const bool bounce = d.specular_reflectance > 0.0;
   const Eigen::Vector3d plane_normal = rot.col(0);  // the laser plane's normal, world
   const Pose sensor_from_world = world_from_sensor.inverse();
+  // Lit and seen from `from` towards the camera: the off-axis falloff.
+  const auto vignetting = [&](const Eigen::Vector3d& view) {
+    const double cos_off = std::max(0.0, axis_world.dot(-view));
+    return std::pow(cos_off, 4);
+  };
+  // The band the sheet lights on a surface of normal n: the direction
+  // across it within the surface, and its std dev there for a sheet std
+  // dev `sigma` (mm).
+  const auto across_band = [&](const Eigen::Vector3d& sheet_normal, const Eigen::Vector3d& n, double sigma,
+                               Eigen::Vector3d& across, double& sigma_surface) {
+    across = sheet_normal - sheet_normal.dot(n) * n;
+    const double norm = across.norm();
+    if (!(norm > 1e-9)) return false;
+    across /= norm;
+    sigma_surface = std::min(50.0, sigma / std::max(0.05, std::abs(sheet_normal.dot(across))));
+    return true;
+  };
 
   struct Sample {
     double col, row;
     bool seen;
-    double bcol, brow, bsigma, bradiance;
-    bool bounced;
   };
   std::vector<Sample> samples(static_cast<std::size_t>(w));
+  std::vector<BandSample> bounced(static_cast<std::size_t>(w));
+  // The primary hits (world), for the camera-side mirror.
+  std::vector<Eigen::Vector3d> hit_p(static_cast<std::size_t>(w)), hit_n(static_cast<std::size_t>(w));
+  std::vector<char> lit(static_cast<std::size_t>(w), 0);
+  std::vector<double> lit_irradiance(static_cast<std::size_t>(w), 0.0), lit_sigma(static_cast<std::size_t>(w), 0.0);
   for (int c = 0; c < w; ++c) {
     Sample& s = samples[static_cast<std::size_t>(c)];
-    s = {0, 0, false, 0, 0, 0, 0, false};
+    s = {0, 0, false};
     // The laser-plane direction that images at column c at mid range
     // (exact for every range without tilt).
     Eigen::Vector2d yz;
@@ -243,6 +335,13 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     const Eigen::Vector3d n = hit.normal.cast<double>();
     const Eigen::Vector3d p_s = sensor_from_world * p;
     if (p_s.z() < d.min_range_mm || p_s.z() > d.max_range_mm) continue;
+    hit_p[static_cast<std::size_t>(c)] = p;
+    hit_n[static_cast<std::size_t>(c)] = n;
+    lit[static_cast<std::size_t>(c)] = 1;
+    lit_sigma[static_cast<std::size_t>(c)] = 0.5 * sheet_half_thickness_mm(d, hit.t);
+    lit_irradiance[static_cast<std::size_t>(c)] = power_w / (fan_rad * hit.t) /
+                                                  (std::sqrt(2.0 * std::numbers::pi) * lit_sigma[static_cast<std::size_t>(c)]) *
+                                                  std::max(0.0, -dir.dot(n));
     Eigen::Vector2d cr;
     const Eigen::Vector3d to_cam = cam_world - p;
     const double dist_cam = to_cam.norm();
@@ -275,28 +374,20 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     const double sigma_b = std::hypot(sigma_sheet, lobe * hq.t);
     const double irradiance = d.specular_reflectance * power_w / (fan_rad * travelled) /
                               (std::sqrt(2.0 * std::numbers::pi) * sigma_b) * cos_q;
-    const Eigen::Vector3d view = q_to_cam / q_dist;
-    const double cos_off = std::max(0.0, axis_world.dot(-view));
-    const double radiance = irradiance * d.reflectivity / std::numbers::pi * std::pow(cos_off, 4);
+    const double radiance = irradiance * d.reflectivity / std::numbers::pi * vignetting(q_to_cam / q_dist);
     // Width in the image: across the mirrored band on the surface at q.
     const Eigen::Vector3d mn = plane_normal - 2.0 * plane_normal.dot(n) * n;
-    Eigen::Vector3d across = mn - mn.dot(nq) * nq;
-    const double across_norm = across.norm();
-    if (!(across_norm > 1e-9)) continue;
-    across /= across_norm;
-    const double sigma_surface = std::min(50.0, sigma_b / std::max(0.05, std::abs(mn.dot(across))));
+    Eigen::Vector3d across;
+    double sigma_surface = 0.0;
+    if (!across_band(mn, nq, sigma_b, across, sigma_surface)) continue;
     Eigen::Vector2d qa, qb;
     if (!project(cam, sensor_from_world * q, qa) ||
         !project(cam, sensor_from_world * (q + sigma_surface * across), qb))
       continue;
-    s.bcol = qa.x();
-    s.brow = qa.y();
-    s.bsigma = std::max(0.3, std::abs(qb.y() - qa.y()));
-    s.bradiance = radiance;
-    s.bounced = true;
+    bounced[static_cast<std::size_t>(c)] = {qa.x(), qa.y(), std::max(0.3, std::abs(qb.y() - qa.y())), radiance, true};
   }
 
-  // Resample both to the integer image columns between neighbouring samples
+  // Resample to the integer image columns between neighbouring samples
   // that continue each other (a jump of more than 4 px is an edge).
   constexpr double kJoin = 4.0;
   for (int c = 0; c + 1 < w; ++c) {
@@ -310,19 +401,70 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
         out.true_row[static_cast<std::size_t>(k)] = static_cast<float>(a.row + f * (b.row - a.row));
       }
     }
-    if (a.bounced && b.bounced && std::abs(a.bcol - b.bcol) <= 3 * kJoin && std::abs(a.brow - b.brow) <= 3 * kJoin) {
-      const double lo = std::min(a.bcol, b.bcol), hi = std::max(a.bcol, b.bcol);
-      for (int k = static_cast<int>(std::ceil(lo)); k <= static_cast<int>(std::floor(hi)); ++k) {
-        if (k < 0 || k >= w) continue;
-        const double f = hi > lo ? (k - a.bcol) / (b.bcol - a.bcol) : 0.0;
-        const double rad = a.bradiance + f * (b.bradiance - a.bradiance);
-        // Where two bounced pieces cross a column, the brighter is kept.
-        if (rad <= out.bounce_radiance[static_cast<std::size_t>(k)]) continue;
-        out.bounce_row[static_cast<std::size_t>(k)] = static_cast<float>(a.brow + f * (b.brow - a.brow));
-        out.bounce_sigma[static_cast<std::size_t>(k)] = static_cast<float>(a.bsigma + f * (b.bsigma - a.bsigma));
-        out.bounce_radiance[static_cast<std::size_t>(k)] = static_cast<float>(rad);
-      }
+  }
+  if (!bounce) return;
+  resample_bands(bounced, 3 * kJoin, out.bounce_row, out.bounce_sigma, out.bounce_radiance);
+
+  // The camera-side mirror: the camera sees the lit line of one surface
+  // mirrored in another (docs/SENSOR_MODEL.md, "The stripe in a mirror").
+  // For a mirror plane S, the image of a lit point P is where the camera
+  // sees P' (P mirrored by S), if its ray meets S there first and P lights
+  // that point unoccluded.
+  const std::vector<MirrorPlane> planes = lit_planes(hit_p, hit_n, lit);
+  std::vector<BandSample> mirrored(static_cast<std::size_t>(w));
+  const double cos_same = std::cos(2.0 * kDeg);
+  for (const MirrorPlane& plane : planes) {
+    const Eigen::Vector3d& ns = plane.normal;
+    const double cam_side = ns.dot(cam_world - plane.point);
+    if (!(cam_side > 0.0)) continue;  // the camera sees the plane's back
+    for (int c = 0; c < w; ++c) {
+      BandSample& b = mirrored[static_cast<std::size_t>(c)];
+      b.valid = false;
+      if (!lit[static_cast<std::size_t>(c)]) continue;
+      const Eigen::Vector3d& p = hit_p[static_cast<std::size_t>(c)];
+      const Eigen::Vector3d& np = hit_n[static_cast<std::size_t>(c)];
+      const double height = ns.dot(p - plane.point);
+      if (height < 0.05) continue;  // on the mirror itself, or behind it
+      const Eigen::Vector3d virt = p - 2.0 * height * ns;
+      Eigen::Vector3d ray = virt - cam_world;
+      const double virt_dist = ray.norm();
+      ray /= virt_dist;
+      const double denom = ray.dot(ns);
+      if (!(denom < -1e-6)) continue;
+      const double t_plane = -cam_side / denom;
+      RayScene::Hit hq;
+      if (!scene.intersect(cam_world.cast<float>(), ray.cast<float>(), 0.0f, static_cast<float>(t_plane + 1.0), hq))
+        continue;
+      if (std::abs(static_cast<double>(hq.t) - t_plane) > 0.05 + 1e-4 * t_plane ||
+          hq.normal.cast<double>().dot(ns) < cos_same)
+        continue;  // something else is seen first, or another surface
+      const Eigen::Vector3d q = cam_world + t_plane * ray;
+      Eigen::Vector3d q_to_p = p - q;
+      const double leg = q_to_p.norm();
+      q_to_p /= leg;
+      if (np.dot(-q_to_p) <= 0.0) continue;  // P faces away from the mirror
+      if (scene.occluded((q + 1e-3 * ns).cast<float>(), q_to_p.cast<float>(), static_cast<float>(kShadowEpsilonMm),
+                         static_cast<float>(leg - 2.0 * kShadowEpsilonMm)))
+        continue;
+      // The band on P's surface seen through the mirror, its width in the
+      // image, widened by the lobe: a reflected direction off by delta
+      // shows a point delta * leg away at the virtual distance.
+      Eigen::Vector3d across;
+      double sigma_surface = 0.0;
+      if (!across_band(plane_normal, np, lit_sigma[static_cast<std::size_t>(c)], across, sigma_surface)) continue;
+      const Eigen::Vector3d across_virt = across - 2.0 * across.dot(ns) * ns;
+      Eigen::Vector2d va, vb;
+      if (!project(cam, sensor_from_world * virt, va) ||
+          !project(cam, sensor_from_world * (virt + sigma_surface * across_virt), vb))
+        continue;
+      const double sigma_img = std::max(0.3, std::abs(vb.y() - va.y()));
+      const double sigma_lobe = cam.f_px * lobe * leg / virt_dist;
+      const double sigma = std::hypot(sigma_img, sigma_lobe);
+      const double radiance = d.specular_reflectance * lit_irradiance[static_cast<std::size_t>(c)] * d.reflectivity /
+                              std::numbers::pi * vignetting(-ray) * sigma_img / sigma;
+      b = {va.x(), va.y(), sigma, radiance, true};
     }
+    resample_bands(mirrored, 3 * kJoin, out.mirror_row, out.mirror_sigma, out.mirror_radiance);
   }
 }
 
@@ -337,21 +479,28 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   out.pixels.resize(static_cast<std::size_t>(w) * rows);
   out.true_row = paths.true_row;
   out.bounce_row = paths.bounce_row;
+  out.mirror_row = paths.mirror_row;
   const auto at = [w](int col, int k) { return static_cast<std::size_t>(k) * w + col; };
 
-  // 1. The bounce: a Gaussian band per column, integrated over each pixel.
-  for (int c = 0; c < w && c < static_cast<int>(paths.bounce_row.size()); ++c) {
-    const float row = paths.bounce_row[static_cast<std::size_t>(c)];
-    if (!std::isfinite(row)) continue;
-    // The lens blur widens the band as it widens the stripe (the renderer
-    // folds it into the stripe's profile).
-    const double sigma = std::hypot(static_cast<double>(paths.bounce_sigma[static_cast<std::size_t>(c)]), d.psf_sigma_px);
-    const double peak = paths.bounce_radiance[static_cast<std::size_t>(c)];
-    const double area = peak * sigma * std::sqrt(2.0 * std::numbers::pi);  // radiance x px
-    const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
-    const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
-    for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += static_cast<float>(area * pixel_share(r, row, sigma));
-  }
+  // 1. The bounce and the mirror image: a Gaussian band per column,
+  // integrated over each pixel. The lens blur widens a band as it widens
+  // the stripe (the renderer folds it into the stripe's profile) and keeps
+  // its energy.
+  const auto splat = [&](const std::vector<float>& rows_of, const std::vector<float>& sigma_of,
+                         const std::vector<float>& radiance_of) {
+    for (int c = 0; c < w && c < static_cast<int>(rows_of.size()); ++c) {
+      const float row = rows_of[static_cast<std::size_t>(c)];
+      if (!std::isfinite(row)) continue;
+      const double band = sigma_of[static_cast<std::size_t>(c)];
+      const double sigma = std::hypot(band, d.psf_sigma_px);
+      const double area = radiance_of[static_cast<std::size_t>(c)] * band * std::sqrt(2.0 * std::numbers::pi);
+      const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
+      const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
+      for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += static_cast<float>(area * pixel_share(r, row, sigma));
+    }
+  };
+  splat(paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance);
+  splat(paths.mirror_row, paths.mirror_sigma, paths.mirror_radiance);
 
   std::vector<float>& column = scratch_column();
   std::vector<float>& blurred = scratch_blurred();

@@ -90,6 +90,7 @@ struct CameraImage {
   std::vector<std::uint16_t> pixels;  // width * rows
   std::vector<float> true_row;        // per column
   std::vector<float> bounce_row;      // per column
+  std::vector<float> mirror_row;      // per column: the stripe seen in a mirror (NaN if none)
   std::int64_t index = 0;             // the profile's index
   // Set by detect_stripe: per column, which of the column's peaks (0 =
   // lowest row) is the true stripe (nearest true_row, within half its width
@@ -106,12 +107,17 @@ struct LaserPaths {
   std::vector<float> bounce_row;   // per image column: the bounce's image row, NaN if none
   std::vector<float> bounce_sigma; // its std dev across the stripe, px
   std::vector<float> bounce_radiance;  // its peak radiance, W/(mm^2 sr)
+  // The camera-side mirror: the lit line of one surface seen mirrored in
+  // another lit plane (the brightest where several are).
+  std::vector<float> mirror_row, mirror_sigma, mirror_radiance;
 };
 // Casts one ray per image column through the laser plane (the column's
 // direction at the depth of field's middle), finds where it is seen in the
 // image and, when the surface has a specular share, where its mirror
-// reflection lands and how bright it is there (docs/SENSOR_MODEL.md,
-// "One bounce").
+// reflection lands and how bright it is there, and where the camera sees
+// the lit line mirrored in one of the planes it lights (docs/SENSOR_MODEL.md,
+// "One bounce" and "The stripe in a mirror"). Mirrors are the planes of runs
+// of at least 3 consecutive primary hits (a curved mirror is not traced).
 void trace_laser_paths(const ScannerDesc& desc, const RayScene& scene, const Pose& world_from_sensor,
                        LaserPaths& out);
 

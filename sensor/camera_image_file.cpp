@@ -86,13 +86,14 @@ void write_camera_image(const std::filesystem::path& dir, const CameraImage& im)
   std::ostream& out = file.stream();
   out << "# vts camera image " << im.index << ": " << im.width << " columns, rows " << im.first_row << ".."
       << im.first_row + im.rows - 1 << " of the image, " << im.bits << " bits\n";
-  out << "column,true_row,bounce_row,true_peak,chosen_peak,chosen_row,peaks\n";
+  out << "column,true_row,bounce_row,mirror_row,true_peak,chosen_peak,chosen_row,peaks\n";
   const auto at = [](const auto& v, int c, auto fallback) {
     return c < static_cast<int>(v.size()) ? v[static_cast<std::size_t>(c)] : fallback;
   };
   const float nan = std::nanf("");
   for (int c = 0; c < im.width; ++c) {
     out << c << ',' << number(at(im.true_row, c, nan)) << ',' << number(at(im.bounce_row, c, nan)) << ','
+        << number(at(im.mirror_row, c, nan)) << ','
         << at(im.true_peak, c, -1) << ',' << at(im.chosen_peak, c, -1) << ',' << number(at(im.chosen_row, c, nan))
         << ',' << at(im.peak_count, c, 0) << '\n';
   }

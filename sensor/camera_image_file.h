@@ -4,7 +4,7 @@
 // greyscale for 8-bit images, else 16-bit holding the DN values as they are,
 // with an sBIT chunk giving the depth; the region of interest's rows only)
 // and DIR/image_NNNNNN.csv, one line per image column:
-//   column, true_row, bounce_row, true_peak, chosen_peak, chosen_row, peaks
+//   column, true_row, bounce_row, mirror_row, true_peak, chosen_peak, chosen_row, peaks
 // rows in full-image coordinates (a region of interest's first row is
 // `first_row`, written in the CSV's header comment), NaN written as empty;
 // true_peak/chosen_peak index the column's peaks from the lowest row (-1:

@@ -77,7 +77,7 @@ struct ScannerDesc {
   double sheet_waist_mm = 0.1;      // sheet's 1/e^2 half thickness at its waist
   double sheet_focus_mm = 200.0;    // range of the waist
   double sheet_m2 = 1.3;            // beam quality M^2: divergence M^2 lambda / (pi waist)
-  double exposure_us = 10.0;        // exposure time
+  double exposure_us = 20.0;        // exposure time
   double gain = 4.0;                // DN per electron = gain (2^bits - 1) / full_well_e
   double quantum_efficiency = 0.5;  // electrons per photon at the laser wavelength
   double full_well_e = 10000.0;     // electrons at which the pixel saturates (gain 1)
@@ -88,8 +88,8 @@ struct ScannerDesc {
   int image_roi_first_row = 0;      // region of interest: first image row read out
   int image_roi_rows = 0;           // and how many (0: the full frame)
   bool image_noise = true;          // shot and read noise (off: each pixel's expected value)
-  double specular_reflectance = 0.0;  // surface: the specular lobe's share of the light
-  double specular_lobe_deg = 3.0;     // surface: the lobe's std dev around the mirror direction
+  double specular_reflectance = 0.05;  // surface: the specular lobe's share of the light (matte-steel's)
+  double specular_lobe_deg = 8.0;      // surface: the lobe's std dev around the mirror direction
   double speckle_contrast = 0.5;      // surface: std/mean of the stripe's brightness per grain
   // The peak detector (stripe/peaks.h) that turns each image into a profile.
   double peak_threshold_dn = 0.0;   // DN a stripe pixel must exceed (0: full scale / 16)

@@ -60,17 +60,17 @@ TEST_CASE("vts scan --camera-image: profiles from the image agree with the truth
     std::getline(csv, line);
     CHECK(line.rfind("# vts camera image", 0) == 0);
     std::getline(csv, line);
-    CHECK(line == "column,true_row,bounce_row,true_peak,chosen_peak,chosen_row,peaks");
+    CHECK(line == "column,true_row,bounce_row,mirror_row,true_peak,chosen_peak,chosen_row,peaks");
     int rows = 0, labelled = 0, chosen_true = 0;
     while (std::getline(csv, line)) {
       ++rows;
       std::vector<std::string> f;
       std::stringstream ls(line);
       for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
-      f.resize(7);
-      if (f[1].empty() || f[5].empty()) continue;
+      f.resize(8);
+      if (f[1].empty() || f[6].empty()) continue;
       ++labelled;
-      chosen_true += f[3] == f[4] && std::abs(std::stod(f[1]) - std::stod(f[5])) < 1.0;
+      chosen_true += f[4] == f[5] && std::abs(std::stod(f[1]) - std::stod(f[6])) < 1.0;
     }
     CHECK(rows == 1280);
     CHECK(labelled > 1000);

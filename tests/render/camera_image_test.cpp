@@ -321,3 +321,138 @@ TEST_CASE("with speckle on, the image's profile is as noisy as the geometric mod
   INFO("row error rms: image " << rms_image << " px, geometric model " << rms_geo << " px");
   CHECK(rms_image == Approx(rms_geo).epsilon(0.2));
 }
+
+TEST_CASE("the camera sees the stripe on one wall mirrored in the other where the wall planes put it",
+          "[camera_image][gl]") {
+  // Worked out here: the lit point P of each column on wall a (the laser
+  // plane cuts it along a line) mirrored by wall b's plane is P'; the camera
+  // sees P' through wall b where the line from the camera centre to P'
+  // crosses that plane inside the wall. Its image is P' projected.
+  const VGroove v{110.0, 35.0, 12.0};
+  vts::ScannerDesc d;
+  REQUIRE(vts::apply_material(d, "shiny-steel"));
+  d.speckle_px = 0.0;
+  d.speckle_contrast = 0.0;
+  const vts::Pose pose = vts::Pose::Identity();
+  const Shot s = shoot(d, v.mesh(), pose);
+  const vts::CameraGeometry cam = vts::camera_geometry(d);
+  int predicted = 0, found = 0;
+  double worst = 0.0;
+  for (int c = 0; c < cam.width; ++c) {
+    Eigen::Vector2d yz;
+    if (!vts::triangulate(cam, c, cam.cy, yz)) continue;
+    const Eigen::Vector3d dir = Eigen::Vector3d(0.0, yz.x() / yz.y(), 1.0).normalized();
+    for (bool a_is_b : {false, true}) {
+      const Eigen::Vector3d na = v.normal(a_is_b), nb = v.normal(!a_is_b);
+      const double c0 = na.dot(Eigen::Vector3d(0.0, 0.0, v.z0));  // both planes pass through the root
+      const double t = c0 / na.dot(dir);
+      const Eigen::Vector3d p = t * dir;
+      if (!(t > 0) || (a_is_b ? p.y() < 0 : p.y() > 0) || std::abs(p.y()) > v.reach()) continue;
+      const Eigen::Vector3d pv = p - 2.0 * (nb.dot(p) - c0) * nb;
+      const Eigen::Vector3d ray = (pv - cam.centre).normalized();
+      const double tq = (c0 - nb.dot(cam.centre)) / nb.dot(ray);
+      const Eigen::Vector3d q = cam.centre + tq * ray;
+      // Inside wall b, not at its very ends (the image's resampling joins
+      // neighbouring columns only), and lit from P unoccluded (the walls
+      // face each other: nothing lies between).
+      if (!(tq > 0) || (a_is_b ? q.y() > -0.3 : q.y() < 0.3) || std::abs(q.y()) > v.reach() - 0.3) continue;
+      Eigen::Vector2d qi;
+      if (!vts::project(cam, pv, qi)) continue;
+      const int qc = static_cast<int>(std::lround(qi.x()));
+      if (qc < 0 || qc >= cam.width) continue;
+      ++predicted;
+      const float row = s.paths.mirror_row[static_cast<std::size_t>(qc)];
+      if (!std::isfinite(row)) continue;
+      const double err = std::abs(row - qi.y()) - std::abs(qi.x() - qc) * 2.0;
+      worst = std::max(worst, err);
+      found += err < 0.5;
+    }
+  }
+  INFO("predicted " << predicted << ", found " << found << ", worst " << worst << " px");
+  CHECK(predicted >= 100);
+  CHECK(found >= predicted * 95 / 100);
+}
+
+TEST_CASE("a shiny thick v-groove at the default exposure looks like a welding sensor's image of one",
+          "[camera_image][gl]") {
+  // Issue 22's figures from real 8-bit images of thick-plate grooves, per
+  // lit column: stripe saturated in 80-100 % of columns, width at half
+  // maximum 3-9 px where not saturated, background 0-2 DN with 1.5-3 DN
+  // noise, two or more separated peaks in 11-33 %. Measured here on the
+  // built-in vgroove-thick (40 mm plate, 60 degrees, beads laid) in
+  // shiny steel, every statistic worked out in this test from the pixels.
+  auto cell = vts::builtin_cell("vgroove-thick");
+  REQUIRE(cell);
+  vts::ScannerDesc d = cell->scanner;
+  REQUIRE(vts::apply_material(d, "shiny-steel"));
+  REQUIRE(d.image_bits == 8);
+  const vts::Mesh mesh = cell->mesh();
+  vts::CameraRenderer renderer(d, mesh);
+  vts::RayScene scene(mesh, "test");
+  const int full = 255, threshold = 16;  // the detector's default threshold, full scale / 16
+  int lit = 0, saturated = 0, multi = 0;
+  std::vector<int> widths;
+  double bg_sum = 0.0, bg_sq = 0.0;
+  long bg_n = 0;
+  for (int i = 0; i < 5; ++i) {
+    const vts::Pose pose = cell->path.pose_at(i * 10);
+    vts::RadianceImage rad;
+    vts::LaserPaths paths;
+    vts::CameraImage im;
+    renderer.render(pose, rad);
+    vts::trace_laser_paths(d, scene, pose, paths);
+    vts::form_image(d, rad, paths, 3, i, im);
+    const auto px = [&](int c, int k) { return static_cast<int>(im.pixels[static_cast<std::size_t>(k) * im.width + c]); };
+    for (int c = 0; c < im.width; ++c) {
+      // Background: pixels more than 40 rows from any labelled light.
+      const auto far_from = [&](float row, int k) { return !std::isfinite(row) || std::abs(k + im.first_row - row) > 40.0f; };
+      for (int k = 0; k < im.rows; k += 3)
+        if (far_from(im.true_row[c], k) && far_from(im.bounce_row[c], k) && far_from(im.mirror_row[c], k)) {
+          bg_sum += px(c, k);
+          bg_sq += px(c, k) * px(c, k);
+          ++bg_n;
+        }
+      if (!std::isfinite(im.true_row[c])) continue;
+      ++lit;
+      int top = 0, at = 0;
+      for (int k = 0; k < im.rows; ++k)
+        if (px(c, k) > top) top = px(c, k), at = k;
+      if (top >= full) {
+        ++saturated;
+      } else {
+        int lo = at, hi = at;
+        while (lo > 0 && 2 * px(c, lo - 1) >= top) --lo;
+        while (hi + 1 < im.rows && 2 * px(c, hi + 1) >= top) ++hi;
+        widths.push_back(hi - lo + 1);
+      }
+      // Separated peaks: runs above the threshold at least 3 rows apart.
+      int runs = 0, gap = 1 << 20;
+      for (int k = 0; k < im.rows; ++k) {
+        if (px(c, k) >= threshold) {
+          runs += gap >= 3;
+          gap = 0;
+        } else {
+          ++gap;
+        }
+      }
+      multi += runs >= 2;
+    }
+  }
+  REQUIRE(lit > 1000);
+  std::nth_element(widths.begin(), widths.begin() + static_cast<std::ptrdiff_t>(widths.size() / 2), widths.end());
+  const double sat_share = 100.0 * saturated / lit, multi_share = 100.0 * multi / lit;
+  const double bg_mean = bg_sum / static_cast<double>(bg_n);
+  const double bg_sd = std::sqrt(bg_sq / static_cast<double>(bg_n) - bg_mean * bg_mean);
+  const int width = widths.empty() ? 0 : widths[widths.size() / 2];
+  INFO("lit columns " << lit << ": saturated " << sat_share << " %, unsaturated width " << width
+                      << " px, background " << bg_mean << " / " << bg_sd << " DN, two or more peaks " << multi_share
+                      << " %");
+  CHECK(sat_share >= 80.0);
+  CHECK(width >= 3);
+  CHECK(width <= 9);
+  CHECK(bg_mean <= 2.0);
+  CHECK(bg_sd >= 1.5);
+  CHECK(bg_sd <= 3.0);
+  CHECK(multi_share >= 11.0);
+  CHECK(multi_share <= 33.0);
+}
