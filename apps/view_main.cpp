@@ -73,7 +73,11 @@ int run(int argc, char** argv) {
       ->type_name("NAME");
   cli.add_option("--material", o.material, "Surface material preset for the error model, e.g. shiny-steel")
       ->type_name("NAME");
-  cli.add_flag("--ideal", o.ideal, "Start with the error model off (ideal geometric profiles)");
+  auto* ideal = cli.add_flag("--ideal", o.ideal, "Start with the error model off (ideal geometric profiles)");
+  cli.add_flag("--camera-image", o.camera_image,
+               "Start in the camera-image mode: profiles read from the rendered stripe image, the image shown under "
+               "the 3D view with the true stripe and the detected peaks (key I toggles it)")
+      ->excludes(ideal);
   cli.add_option("--seed", o.app.seed, "Seed of the error model's random draws (default 0)")->type_name("N");
   cli.add_option("--record", o.app.record,
                  "File for the first recording started with P (later ones get -2, -3, ...). "

@@ -81,6 +81,7 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
   out.measured.resize(model ? count : 0);
   out.ideal_ref.resize(reference_ ? count : 0);
   out.measured_ref.resize(reference_ && model ? count : 0);
+  if (!image_mode() || !keep_images_) out.images.clear();  // none left from an earlier scan into `out`
   main_->scan_batch(poses_, out.ideal);
   if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
   for (std::size_t k = 0; k < count; ++k) {

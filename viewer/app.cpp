@@ -262,6 +262,28 @@ void App::set_error_model(bool on) {
                : "error model off: ideal geometric profiles";
 }
 
+void App::set_camera_image(bool on) {
+  if (on == camera_image()) return;
+  finish_recording();
+  cell_.scanner.camera_image = on;
+  if (on) cell_.scanner.ideal = false;
+  last_image_.reset();
+  ++image_serial_;
+  configure_worker();
+  status_ = on ? "camera image: profiles read from the rendered stripe image (peaks per image column)"
+               : "camera image off: profiles from the error model";
+}
+
+unsigned App::image_texture() {
+  if (!last_image_) return 0;
+  if (uploaded_serial_ != image_serial_) {
+    const CameraImage& im = *last_image_;
+    image_texture_ = renderer_.grey_texture(im.pixels, im.width, im.rows, im.bits);
+    uploaded_serial_ = image_serial_;
+  }
+  return image_texture_;
+}
+
 // After a change of the scanner's sensor fields: column rays, rate, housing.
 void App::scanner_changed() {
   column_dirs_ = column_directions(cell_.scanner);
@@ -336,6 +358,13 @@ void App::take_scans() {
       }
     }
   }
+  if (scanned.image) {
+    last_image_ = std::move(scanned.image);
+    ++image_serial_;
+  } else if (last_image_ && !camera_image()) {
+    last_image_.reset();
+    ++image_serial_;
+  }
   last_ideal_ = std::move(scanned.ideal.back());
   last_ = std::move(scanned.output.back());
   have_profile_ = true;
@@ -404,6 +433,7 @@ void App::press(Key key) {
     case Key::ResetTorch: reset_torch(); break;
     case Key::ResetView: reset_camera(); break;
     case Key::LayBead: lay_bead(); break;
+    case Key::CameraImage: set_camera_image(!camera_image()); break;
     case Key::Quit: quit_ = true; break;
     default: break;  // motion keys act through update()
   }

@@ -96,6 +96,10 @@ class App {
   // Error model on: profiles as the sensor measures them; off: ideal.
   void set_error_model(bool on);
   bool error_model() const { return !cell_.scanner.ideal; }
+  // Camera-image mode (docs/SENSOR_MODEL.md, "The camera image"): profiles
+  // read from the rendered stripe image; turns the error model on.
+  void set_camera_image(bool on);
+  bool camera_image() const { return cell_.scanner.camera_image && !cell_.scanner.ideal; }
   void toggle_recording();
   void reset_torch();
   // A groove cell: one more bead laid (the workpiece rebuilt, the sensor
@@ -112,6 +116,13 @@ class App {
   // geometry gave it (the lit line).
   const Profile* last_profile() const { return have_profile_ ? &last_ : nullptr; }
   const Profile* last_ideal() const { return have_profile_ ? &last_ideal_ : nullptr; }
+  // The latest camera image in the camera-image mode (labelled: true stripe,
+  // chosen peaks), and a number that changes with each new one.
+  const CameraImage* last_image() const { return last_image_ ? &*last_image_ : nullptr; }
+  std::uint64_t image_serial() const { return image_serial_; }
+  // That image as an OpenGL texture (uploaded when it changed; needs the
+  // context current), 0 if there is none.
+  unsigned image_texture();
   std::uint64_t seed() const { return options_.seed; }
   const tracker::TrackResult* last_track() const { return have_profile_ ? &track_ : nullptr; }
   const tracker::Tracker& tracker() const { return tracker_; }
@@ -167,6 +178,10 @@ class App {
   Profile last_;        // measured (error model applied)
   Profile last_ideal_;  // as the source gave it
   bool have_profile_ = false;
+  std::optional<CameraImage> last_image_;
+  std::uint64_t image_serial_ = 0;
+  std::uint64_t uploaded_serial_ = 0;
+  unsigned image_texture_ = 0;
   bool sensor_behind_ = false;
 
   tracker::Tracker tracker_;

@@ -11,7 +11,7 @@ namespace vts::viewer {
 enum class Key {
   Forward, Back, Left, Right, Up, Down,  // translate (held)
   RollLeft, RollRight, YawLeft, YawRight, PitchUp, PitchDown,  // rotate (held)
-  Faster, Slower, Help, Pause, Record, AutoTravel, FollowCamera, ResetTorch, ResetView, LayBead, Quit,
+  Faster, Slower, Help, Pause, Record, AutoTravel, FollowCamera, ResetTorch, ResetView, LayBead, CameraImage, Quit,
 };
 
 struct KeyInfo {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cfloat>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -24,6 +25,7 @@ constexpr ImU32 kOutlierColor = IM_COL32(230, 90, 230, 255);
 constexpr ImU32 kSegmentColor = IM_COL32(255, 214, 60, 255);
 constexpr ImU32 kBreakColor = IM_COL32(255, 140, 20, 255);
 constexpr ImU32 kTrackColor = IM_COL32(70, 235, 110, 255);
+constexpr ImU32 kCameraTrueColor = IM_COL32(60, 220, 255, 200);
 const ImVec4 kOkText{0.45f, 0.95f, 0.55f, 1.0f};
 const ImVec4 kRejectText{1.0f, 0.55f, 0.45f, 1.0f};
 const ImVec4 kDimText{0.62f, 0.65f, 0.70f, 1.0f};
@@ -226,6 +228,66 @@ void name_combo(const char* id, const std::string& prefix, const std::string& cu
   }
 }
 
+// The camera-image panel (the camera-image mode): the latest image, cropped
+// to the rows around the light, with the true stripe (where the ideal lit
+// point of each column images) and the peaks the detector chose.
+void camera_image_panel(App& app, ImVec2 size) {
+  const CameraImage* im = app.last_image();
+  const unsigned texture = app.image_texture();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  if (!im || !texture || im->width <= 0 || im->rows <= 0) {
+    ImGui::TextColored(kDimText, "camera image: waiting for the first image");
+    return;
+  }
+  // Rows with light in them, padded.
+  float lo = 1e30f, hi = -1e30f;
+  int chose_true = 0, labelled = 0;
+  for (int c = 0; c < im->width; ++c) {
+    for (const std::vector<float>* rows : {&im->true_row, &im->chosen_row, &im->mirror_row, &im->bounce_row})
+      if (c < static_cast<int>(rows->size()) && std::isfinite((*rows)[static_cast<std::size_t>(c)])) {
+        lo = std::min(lo, (*rows)[static_cast<std::size_t>(c)]);
+        hi = std::max(hi, (*rows)[static_cast<std::size_t>(c)]);
+      }
+    if (c < static_cast<int>(im->true_peak.size()) && im->true_peak[static_cast<std::size_t>(c)] >= 0) {
+      ++labelled;
+      chose_true += im->chosen_peak[static_cast<std::size_t>(c)] == im->true_peak[static_cast<std::size_t>(c)];
+    }
+  }
+  const float first = static_cast<float>(im->first_row), last = first + static_cast<float>(im->rows);
+  if (!(lo <= hi)) lo = first, hi = last;
+  lo = std::max(first, std::floor(lo) - 16.0f);
+  hi = std::min(last, std::ceil(hi) + 17.0f);
+  if (hi - lo < 48.0f) {
+    const float mid = 0.5f * (lo + hi);
+    lo = std::max(first, mid - 24.0f);
+    hi = std::min(last, lo + 48.0f);
+  }
+  ImGui::TextColored(kDimText, "camera image, rows %.0f-%.0f: true stripe cyan, chosen peaks green, true in %d/%d columns",
+                     lo, hi - 1.0f, chose_true, labelled);
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
+  ImGui::Dummy(size);
+  const float v0 = (lo - first) / static_cast<float>(im->rows), v1 = (hi - first) / static_cast<float>(im->rows);
+  dl->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(texture)), p0, p1, ImVec2(0.0f, v0),
+               ImVec2(1.0f, v1));
+  dl->AddRect(p0, p1, kPlotFrame);
+  const float sx = size.x / static_cast<float>(im->width), sy = size.y / (hi - lo);
+  const auto at = [&](int c, float row) {  // pixel centre (c, row)
+    return ImVec2(p0.x + (static_cast<float>(c) + 0.5f) * sx, p0.y + (row - lo + 0.5f) * sy);
+  };
+  dl->PushClipRect(p0, p1, true);
+  for (int c = 0; c + 1 < static_cast<int>(im->true_row.size()); ++c) {
+    const float a = im->true_row[static_cast<std::size_t>(c)], b = im->true_row[static_cast<std::size_t>(c + 1)];
+    if (std::isfinite(a) && std::isfinite(b) && std::abs(a - b) < 4.0f) dl->AddLine(at(c, a), at(c + 1, b), kCameraTrueColor);
+  }
+  const int step = std::max(1, static_cast<int>(4.0f / std::max(sx, 1e-3f)));  // a peak every 4 px
+  for (int c = 0; c < static_cast<int>(im->chosen_row.size()); c += step) {
+    const float r = im->chosen_row[static_cast<std::size_t>(c)];
+    if (std::isfinite(r)) dl->AddRectFilled(ImVec2(at(c, r).x - 1.0f, at(c, r).y - 1.0f), ImVec2(at(c, r).x + 1.0f, at(c, r).y + 1.0f), kTrackColor);
+  }
+  dl->PopClipRect();
+}
+
 void controls(App& app) {
   const ScannerDesc& desc = app.cell().scanner;
   if (!ImGui::BeginTable("controls", 2, ImGuiTableFlags_SizingStretchSame)) return;
@@ -260,6 +322,12 @@ void controls(App& app) {
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("on: profiles as the sensor measures them (noise, quantization, camera shadow, "
                       "outliers, dropouts); off: the ideal geometric profile");
+  ImGui::TableNextColumn();
+  bool image = app.camera_image();
+  if (ImGui::Checkbox("camera image (I)", &image)) app.set_camera_image(image);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("profiles read from the rendered stripe image, peaks per image column "
+                      "(sheet, reflections, speckle, sensor noise); the image is shown under the 3D view");
   ImGui::TableNextColumn();
   int source = app.source_kind() == SourceKind::Raster ? 0 : 1;
   if (ImGui::RadioButton("raster", &source, 0)) app.set_source(SourceKind::Raster);
@@ -332,6 +400,19 @@ void draw_panels(App& app, int window_width, int window_height, const FrameStats
   ImGui::Separator();
   ImGui::TextWrapped("%s", app.status().c_str());
   ImGui::End();
+
+  if (app.camera_image()) {
+    // Under the 3D view, beside the profile panel.
+    const float h = std::clamp(static_cast<float>(window_height) * 0.3f, 140.0f, 320.0f);
+    ImGui::SetNextWindowPos(ImVec2(0.0f, static_cast<float>(window_height) - h));
+    ImGui::SetNextWindowSize(ImVec2(view_w, h));
+    ImGui::Begin("Camera image", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoTitleBar);
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    camera_image_panel(app, ImVec2(avail.x, std::max(40.0f, avail.y - ImGui::GetTextLineHeightWithSpacing())));
+    ImGui::End();
+  }
 
   // Status overlay, top-left of the 3D view.
   ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f));

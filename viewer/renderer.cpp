@@ -65,8 +65,11 @@ struct Renderer::Impl {
   std::vector<VertexArray> meshes;
   VertexArray stream;
   std::vector<StreamVertex> scratch;
+  GLuint image_texture = 0;
+  std::vector<std::uint8_t> image_bytes;
 
   ~Impl() {
+    if (image_texture) glDeleteTextures(1, &image_texture);
     if (mesh_program) glDeleteProgram(mesh_program);
     if (color_program) glDeleteProgram(color_program);
   }
@@ -213,6 +216,31 @@ void Renderer::draw(const SceneView& view) {
   glUseProgram(0);
   glDisable(GL_DEPTH_TEST);
   // Leave the viewport and state as a 2D overlay (ImGui) expects to find them.
+}
+
+unsigned Renderer::grey_texture(const std::vector<std::uint16_t>& pixels, int width, int height, int bits) {
+  Impl& m = *impl_;
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  if (pixels.size() < n || width <= 0 || height <= 0) return m.image_texture;
+  m.image_bytes.resize(n);
+  const int shift = std::max(0, bits - 8);
+  for (std::size_t i = 0; i < n; ++i) m.image_bytes[i] = static_cast<std::uint8_t>(std::min(255, pixels[i] >> shift));
+  if (!m.image_texture) {
+    glGenTextures(1, &m.image_texture);
+    glBindTexture(GL_TEXTURE_2D, m.image_texture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    // One channel shown as grey.
+    const GLint swizzle[4] = {GL_RED, GL_RED, GL_RED, GL_ONE};
+    glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
+  }
+  glBindTexture(GL_TEXTURE_2D, m.image_texture);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, width, height, 0, GL_RED, GL_UNSIGNED_BYTE, m.image_bytes.data());
+  glBindTexture(GL_TEXTURE_2D, 0);
+  return m.image_texture;
 }
 
 std::vector<std::uint8_t> Renderer::read_pixels_rgb(int width, int height) const {

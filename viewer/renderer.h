@@ -66,6 +66,11 @@ class Renderer {
   void clear(int width, int height, Rgba background);
   void draw(const SceneView& view);
 
+  // Uploads a greyscale image (`bits` per pixel in 16-bit words, rows top to
+  // bottom) into the renderer's one image texture, shown as 8 bits, and
+  // returns the texture's OpenGL name (for ImGui::Image).
+  unsigned grey_texture(const std::vector<std::uint16_t>& pixels, int width, int height, int bits);
+
   // The current read buffer (the window's back buffer after drawing), RGB8,
   // rows top to bottom, width * height * 3 bytes.
   std::vector<std::uint8_t> read_pixels_rgb(int width, int height) const;

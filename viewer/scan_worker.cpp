@@ -104,6 +104,7 @@ void ScanWorker::run() {
       if (!session || session_generation != generation) {
         session.reset();  // one set of OSMesa contexts at a time
         session = std::make_unique<ScanSession>(desc, *mesh, kind, false, seed);
+        session->keep_images(session->image_mode());
         session_generation = generation;
       }
       session->scan(batch, scanned);
@@ -123,6 +124,7 @@ void ScanWorker::run() {
         const std::span<const Profile> output = scanned.output();
         results_.output.insert(results_.output.end(), output.begin(), output.end());
         results_.ideal.insert(results_.ideal.end(), scanned.ideal.begin(), scanned.ideal.end());
+        if (!scanned.images.empty()) results_.image = std::move(scanned.images.back());
         last_scan_ms_ = ms;
       } else {
         error_ = error;

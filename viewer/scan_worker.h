@@ -9,11 +9,13 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "pipeline/scan_session.h"
+#include "sensor/camera_image.h"
 #include "sensor/mesh.h"
 #include "sensor/profile.h"
 #include "sensor/scanner.h"
@@ -25,9 +27,11 @@ class ScanWorker {
   using Request = ScanRequest;
   // Finished scans in request order: what the sensor gives (the error
   // model's output, or the ideal profile when the scanner is ideal) and the
-  // ideal geometric profile.
+  // ideal geometric profile; in the camera-image mode (desc.camera_image)
+  // also the image the last of them was read from, labelled.
   struct Results {
     std::vector<Profile> output, ideal;
+    std::optional<CameraImage> image;
   };
 
   ScanWorker();

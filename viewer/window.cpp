@@ -65,6 +65,7 @@ std::optional<Key> press_key_of(int glfw_key) {
     case GLFW_KEY_BACKSPACE: return Key::ResetTorch;
     case GLFW_KEY_HOME: return Key::ResetView;
     case GLFW_KEY_B: return Key::LayBead;
+    case GLFW_KEY_I: return Key::CameraImage;
     case GLFW_KEY_ESCAPE: return Key::Quit;
     default: return std::nullopt;
   }
@@ -216,6 +217,7 @@ int run_window(WindowOptions o) {
   if (!o.sensor.empty()) app->set_sensor_preset(o.sensor);
   if (!o.material.empty()) app->set_material(o.material);
   if (o.ideal) app->set_error_model(false);
+  if (o.camera_image) app->set_camera_image(true);
   // Scripted runs wait for each frame's scans, so their pictures do not
   // depend on the machine's speed; --fps measures the interactive behaviour.
   app->sync_scans = scripted && !o.fps;

@@ -21,6 +21,7 @@ struct WindowOptions {
   SourceKind source = SourceKind::Raster;
   std::string sensor, material;    // presets; empty: the cell's
   bool ideal = false;              // start with the error model off
+  bool camera_image = false;       // start in the camera-image mode
   bool sim = false;                // show the run of `vts sim` (docs/SIM.md)
   std::string scenario;            // with sim: this scenario's run (a name or a file)
 };

@@ -159,3 +159,37 @@ TEST_CASE("viewer app: P records the scanned profiles to a vts EXR", "[viewer][g
   CHECK(rec.info.scanner.tool_from_laser.translation().x() == Approx(kLookAheadMm));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("viewer app: I shows the camera image the profile was read from, labelled", "[viewer][gl]") {
+  Fixture f;
+  App app(AppOptions{}, f.renderer);
+  app.load_builtin("vgroove");
+  CHECK_FALSE(app.camera_image());
+  run_frames(app, 2);
+  CHECK(app.last_image() == nullptr);
+  app.press(Key::CameraImage);
+  REQUIRE(app.camera_image());
+  CHECK(app.error_model());
+  run_frames(app, 3);
+  const vts::CameraImage* im = app.last_image();
+  REQUIRE(im);
+  CHECK(im->width == app.cell().scanner.image_width_px);
+  // The image belongs to the profile shown: its chosen peaks were made into
+  // the profile's points, and the labels say where the true stripe is.
+  int labelled = 0, chose_true = 0;
+  for (int c = 0; c < im->width; ++c) {
+    if (im->true_peak[static_cast<std::size_t>(c)] < 0) continue;
+    ++labelled;
+    chose_true += im->chosen_peak[static_cast<std::size_t>(c)] == im->true_peak[static_cast<std::size_t>(c)];
+  }
+  CHECK(labelled > im->width / 2);
+  CHECK(chose_true >= labelled * 9 / 10);
+  CHECK(app.image_texture() != 0u);
+  const std::uint64_t serial = app.image_serial();
+  run_frames(app, 2);
+  CHECK(app.image_serial() != serial);  // a new image with each scan
+  app.press(Key::CameraImage);
+  CHECK_FALSE(app.camera_image());
+  run_frames(app, 2);
+  CHECK(app.last_image() == nullptr);
+}
