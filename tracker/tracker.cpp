@@ -101,6 +101,22 @@ struct Candidate {
   double score = 0.0;
   bool accepted = false;
   char reason[160] = {};
+  // The accept-range check that failed (check()), written into `reason`
+  // only when it is read (reason_text(): most rejected candidates never are).
+  struct Failed {
+    const char* name = nullptr;
+    double v = 0.0;
+    Range r;
+    const char* unit = nullptr;
+  } failed;
+  const char* reason_text() {
+    if (failed.name) {
+      std::snprintf(reason, sizeof reason, "%s %.3g %s outside [%g, %g]", failed.name, failed.v, failed.unit,
+                    failed.r.min, failed.r.max);
+      failed.name = nullptr;
+    }
+    return reason;
+  }
   // The two plates the reading rests on, in scan order (fillet: the plates;
   // corner: the faces; lap: lower and upper; butt: the plates; v-groove: the
   // bevels), and the other lines it sees near the joint (v-groove: the plate
@@ -149,10 +165,11 @@ bool better(const Candidate& a, const Candidate& b) {
   return a.score > b.score;
 }
 
-// Appends "<name> <value> <unit> outside [min, max]" if v is measured and out of range.
+// Sets the reason "<name> <value> <unit> outside [min, max]" (written when
+// read: Candidate::reason_text) if v is measured and out of range.
 bool check(Candidate& c, const char* name, double v, const Range& r, const char* unit) {
   if (std::isnan(v) || r.contains(v)) return true;
-  std::snprintf(c.reason, sizeof c.reason, "%s %.3g %s outside [%g, %g]", name, v, unit, r.min, r.max);
+  c.failed = {name, v, r, unit};  // formatted when read (Candidate::reason_text)
   return false;
 }
 
@@ -167,6 +184,16 @@ class Matcher {
     // a point (removed, or kept in a segment shorter than s_min) behind the
     // line of the nearer long segment beside it by more than the surface
     // tolerance.
+    {
+      const double in2 = p.confidence.noise_k * p.confidence.noise_k;
+      const auto zero = [&](double d) {
+        const double x = d / sigma_;
+        return x * x <= in2;
+      };
+      double d = std::sqrt(in2) * sigma_;
+      for (int k = 0; k < 64 && std::isfinite(d) && !zero(d); ++k) d = std::nextafter(d, 0.0);
+      if (std::isfinite(d) && zero(d)) zero_cost_d_ = d;
+    }
     const int n = static_cast<int>(s.column_state.size());
     off_plates_.assign(n, 0);
     const int s_min = std::max(2, p.segmentation.segments.min_segment_points);
@@ -249,6 +276,9 @@ class Matcher {
   Vec2 origin_;
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
+  // cost() is 0 for distances up to this: found with cost()'s own arithmetic
+  // (d / sigma_ and its square are monotonic in d), so the same.
+  double zero_cost_d_ = -1.0;
   // Columns between the first and last kept point, and the random events
   // among them and their columns (events_between).
   int span_ = 0, events_[2] = {0, 0}, gone_[2] = {0, 0};
@@ -339,12 +369,16 @@ class Matcher {
   template <class F>
   void for_each_rival(const Candidate& best, F f) const {
     const Vec2& track = *best.track;
+    // Each kept rival's ratio once (a reading offered twice is listed twice).
+    std::array<double, kMaxKept> ratio;
+    std::array<bool, kMaxKept> have{};
     for (int k = 0; k < n_readings_; ++k) {
       if ((readings_[k].track - track).norm() <= p_.confidence.distinct_mm) continue;
       double strength = readings_[k].strength;
       for (int j = 0; j < n_kept_; ++j)
         if (*kept_[j].track == readings_[k].track && kept_[j].evidence.strength == strength) {
-          strength = best.evidence.strength + common_log_ratio(best, kept_[j]);
+          if (!have[j]) ratio[j] = common_log_ratio(best, kept_[j]), have[j] = true;
+          strength = best.evidence.strength + ratio[j];
           break;
         }
       f(readings_[k].track, strength);
@@ -393,6 +427,7 @@ class Matcher {
   // within noise_k sigmas (noise, waviness: no evidence either way), then
   // growing as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
   double cost(double d) const {
+    if (std::abs(d) <= zero_cost_d_) return 0.0;  // within noise_k sigmas, without the division
     const ConfidenceParams& cp = p_.confidence;
     const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
     const double x = d / sigma_;
@@ -475,14 +510,17 @@ class Matcher {
     for (std::size_t k = 0; k < removed.size(); ++k)
       point(removed[k], s_.outlier_cols[static_cast<std::size_t>(&removed[k] - s_.outlier_points.data())], 1, true);
     close();
-    int gone = 0;
-    for (int col = c0 + 1; col <= c1; ++col) {
-      if (col < c1 && s_.column_state[col] == kColumnInvalid && (col <= ca || col >= cb)) {
-        ++gone;
-      } else if (gone > 0) {
-        total += event_cost(gone, kInvalidEvent);
-        gone = 0;
-      }
+    // Each run of invalid columns outside the plates' ends, in column order
+    // (memchr finds the next invalid column: most are valid).
+    const std::uint8_t* state = s_.column_state.data();
+    for (int col = c0 + 1; col < c1;) {
+      const void* hit = std::memchr(state + col, kColumnInvalid, static_cast<std::size_t>(c1 - col));
+      if (!hit) break;
+      col = static_cast<int>(static_cast<const std::uint8_t*>(hit) - state);
+      int gone = 0;
+      for (; col < c1 && state[col] == kColumnInvalid && (col <= ca || col >= cb); ++col) ++gone;
+      if (gone > 0) total += event_cost(gone, kInvalidEvent);
+      else ++col;
     }
     return total;
   }
@@ -2653,7 +2691,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     return;
   }
   out.status = best.accepted ? TrackStatus::Ok : TrackStatus::Rejected;
-  if (!best.accepted) out.reason = best.reason;
+  if (!best.accepted) out.reason = best.reason_text();
   if (best.accepted) {
     // How sure the reading is (ConfidenceParams, docs/JOINTS.md "Confidence").
     const ConfidenceParams& cp = p.confidence;
