@@ -2227,10 +2227,45 @@ class Matcher {
       const Vec2 first = i + 1 < poly.size() ? Vec2(poly[i + 1] - poly[i]) : Vec2::Zero();
       const bool drops = first.dot(down) > std::max(tol_, std::abs(first.dot(along)));
       const Vec2 pi = poly[i];
+      // The points after i as (along, down) from it, their upper convex hull
+      // grown with j while their along offsets increase: the most any lies
+      // below the chord to j is at most the hull's maximum of down - slope *
+      // along (exact, up to rounding far below kSlack), so a j whose bound
+      // stays under the notch depth is no notch without the loop over its
+      // points. Where the offsets do not increase, every j is tested.
+      constexpr std::size_t kMaxHull = 512;
+      constexpr double kSlack = 1e-6;
+      std::array<Vec2, kMaxHull> hull;
+      std::size_t n_hull = 0, added = i + 1;
+      bool bounded = drops;
       for (std::size_t j = i + 2; drops && j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
         const Vec2 d = poly[j] - poly[i];
         const double du = d.dot(along);
+        for (; bounded && added < j; ++added) {
+          const Vec2 q((poly[added] - pi).dot(along), (poly[added] - pi).dot(down));
+          if ((n_hull > 0 && !(q.x() > hull[n_hull - 1].x())) || n_hull == kMaxHull) {
+            bounded = false;
+            break;
+          }
+          while (n_hull >= 2) {
+            const Vec2 e = hull[n_hull - 1] - hull[n_hull - 2], f = q - hull[n_hull - 2];
+            if (e.x() * f.y() - e.y() * f.x() < 0.0) break;
+            --n_hull;
+          }
+          hull[n_hull++] = q;
+        }
         if (du <= 0.0) continue;
+        if (bounded && n_hull > 0 && du >= 1e-3) {
+          const double slope = d.dot(down) / du;
+          auto value = [&](std::size_t k) { return hull[k].y() - slope * hull[k].x(); };
+          std::size_t lo = 0, hi = n_hull - 1;
+          while (lo < hi) {
+            const std::size_t mid = (lo + hi) / 2;
+            if (value(mid + 1) > value(mid)) lo = mid + 1;
+            else hi = mid;
+          }
+          if (value(lo) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
+        }
         bool below = true;
         double deepest = 0.0;
         // In blocks: first the divisions, independent of each other (the
