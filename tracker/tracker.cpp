@@ -2236,7 +2236,7 @@ class Matcher {
       constexpr std::size_t kMaxHull = 512;
       constexpr double kSlack = 1e-6;
       std::array<Vec2, kMaxHull> hull;
-      std::size_t n_hull = 0, added = i + 1;
+      std::size_t n_hull = 0, added = i + 1, top = 0;
       bool bounded = drops;
       for (std::size_t j = i + 2; drops && j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
         const Vec2 d = poly[j] - poly[i];
@@ -2258,13 +2258,12 @@ class Matcher {
         if (bounded && n_hull > 0 && du >= 1e-3) {
           const double slope = d.dot(down) / du;
           auto value = [&](std::size_t k) { return hull[k].y() - slope * hull[k].x(); };
-          std::size_t lo = 0, hi = n_hull - 1;
-          while (lo < hi) {
-            const std::size_t mid = (lo + hi) / 2;
-            if (value(mid + 1) > value(mid)) lo = mid + 1;
-            else hi = mid;
-          }
-          if (value(lo) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
+          // The hull is convex: climb from the last j's maximum (the
+          // chords' slopes change little from one j to the next).
+          top = std::min(top, n_hull - 1);
+          while (top + 1 < n_hull && value(top + 1) > value(top)) ++top;
+          while (top > 0 && value(top - 1) > value(top)) --top;
+          if (value(top) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
         }
         bool below = true;
         double deepest = 0.0;
