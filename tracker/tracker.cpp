@@ -227,20 +227,21 @@ class Matcher {
     }
     next_seg = s.segments.size();
     for (; o < s.outlier_cols.size(); ++o) off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
-    for (int col = 0; col < n; ++col)
-      if (s.column_state[col] == kColumnInvalid) off_plates_[col] = kInvalidEvent;
+    // Both loops without branches, so that they vectorise (values 0, 1, 2).
+    std::uint8_t* off = off_plates_.data();
+    for (int col = 0; col < n; ++col) off[col] = s.column_state[col] == kColumnInvalid ? kInvalidEvent : off[col];
     // The events of both kinds in one pass (events_between counts one kind).
     if (!s.cols.empty()) {
       span_ = s.cols.back() - s.cols.front() - 1;
-      std::uint8_t prev = 0;
-      for (int col = s.cols.front() + 1; col < s.cols.back(); ++col) {
-        const std::uint8_t k = off_plates_[col];
-        if (k != 0) {
-          ++gone_[k - 1];
-          events_[k - 1] += k != prev;
-        }
-        prev = k;
+      const int c0 = s.cols.front() + 1, c1 = s.cols.back();
+      if (c0 < c1 && off[c0] != 0) ++gone_[off[c0] - 1], ++events_[off[c0] - 1];
+      int g1 = 0, g2 = 0, e1 = 0, e2 = 0;
+      for (int col = c0 + 1; col < c1; ++col) {
+        const std::uint8_t k = off[col], prev = off[col - 1];
+        g1 += k == kPointEvent, g2 += k == kInvalidEvent;
+        e1 += (k == kPointEvent) & (prev != kPointEvent), e2 += (k == kInvalidEvent) & (prev != kInvalidEvent);
       }
+      gone_[0] += g1, gone_[1] += g2, events_[0] += e1, events_[1] += e2;
     }
   }
 
