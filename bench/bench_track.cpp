@@ -1,6 +1,9 @@
 // Profiles per second of the seam tracker on ideal 512-point profiles of the
 // built-in cells (generated once with the Embree reference along each cell's
 // path; the groove cells too, vgroove-thick read with its fill). items_per_second = profiles. Target: at most 5 us per profile.
+// BM_Track2048, BM_TrackNoisy2048: the same cells scanned with 2,048 columns
+// over the same fan (a current profile sensor's resolution). Target: at most
+// 20 us per profile (issue 24 point 3).
 // BM_TrackNoisy: the same profiles through the error model (mspot, matte
 // steel, seed 1), with surface_tol_mm set from the sensor's resolution as
 // tests/sensor/tracker_noisy_test.cpp does.
@@ -20,9 +23,9 @@ namespace {
 
 namespace tk = vts::tracker;
 
-void BM_Track(benchmark::State& state, const std::string& cell_name, tk::JointType joint, bool noisy) {
+void BM_Track(benchmark::State& state, const std::string& cell_name, tk::JointType joint, bool noisy, int points) {
   auto cell = vts::builtin_cell(cell_name);
-  cell->scanner.points = 512;
+  cell->scanner.points = points;
   auto source = vts::make_reference_source(cell->scanner, cell->mesh());
   std::vector<vts::Profile> profiles(64);
   vts::ScanState noise;
@@ -77,11 +80,13 @@ const int registered = [] {
                                                          {"jgroove", tk::JointType::JGroove}};
   for (const auto& [cell, joint] : cases) {
     const std::string label = cell;
-    for (bool noisy : {false, true}) {
-      const std::string name = (noisy ? "BM_TrackNoisy/" : "BM_Track/") + label;
-      benchmark::RegisterBenchmark(name.c_str(), BM_Track, std::string(cell), joint, noisy)
-          ->Unit(benchmark::kMicrosecond);
-    }
+    for (int points : {512, 2048})
+      for (bool noisy : {false, true}) {
+        const std::string size = points == 512 ? "" : std::to_string(points);
+        const std::string name = (noisy ? "BM_TrackNoisy" : "BM_Track") + size + "/" + label;
+        benchmark::RegisterBenchmark(name.c_str(), BM_Track, std::string(cell), joint, noisy, points)
+            ->Unit(benchmark::kMicrosecond);
+      }
   }
   return 0;
 }();

@@ -101,6 +101,22 @@ struct Candidate {
   double score = 0.0;
   bool accepted = false;
   char reason[160] = {};
+  // The accept-range check that failed (check()), written into `reason`
+  // only when it is read (reason_text(): most rejected candidates never are).
+  struct Failed {
+    const char* name = nullptr;
+    double v = 0.0;
+    Range r;
+    const char* unit = nullptr;
+  } failed;
+  const char* reason_text() {
+    if (failed.name) {
+      std::snprintf(reason, sizeof reason, "%s %.3g %s outside [%g, %g]", failed.name, failed.v, failed.unit,
+                    failed.r.min, failed.r.max);
+      failed.name = nullptr;
+    }
+    return reason;
+  }
   // The two plates the reading rests on, in scan order (fillet: the plates;
   // corner: the faces; lap: lower and upper; butt: the plates; v-groove: the
   // bevels), and the other lines it sees near the joint (v-groove: the plate
@@ -149,10 +165,11 @@ bool better(const Candidate& a, const Candidate& b) {
   return a.score > b.score;
 }
 
-// Appends "<name> <value> <unit> outside [min, max]" if v is measured and out of range.
+// Sets the reason "<name> <value> <unit> outside [min, max]" (written when
+// read: Candidate::reason_text) if v is measured and out of range.
 bool check(Candidate& c, const char* name, double v, const Range& r, const char* unit) {
   if (std::isnan(v) || r.contains(v)) return true;
-  std::snprintf(c.reason, sizeof c.reason, "%s %.3g %s outside [%g, %g]", name, v, unit, r.min, r.max);
+  c.failed = {name, v, r, unit};  // formatted when read (Candidate::reason_text)
   return false;
 }
 
@@ -167,6 +184,16 @@ class Matcher {
     // a point (removed, or kept in a segment shorter than s_min) behind the
     // line of the nearer long segment beside it by more than the surface
     // tolerance.
+    {
+      const double in2 = p.confidence.noise_k * p.confidence.noise_k;
+      const auto zero = [&](double d) {
+        const double x = d / sigma_;
+        return x * x <= in2;
+      };
+      double d = std::sqrt(in2) * sigma_;
+      for (int k = 0; k < 64 && std::isfinite(d) && !zero(d); ++k) d = std::nextafter(d, 0.0);
+      if (std::isfinite(d) && zero(d)) zero_cost_d_ = d;
+    }
     const int n = static_cast<int>(s.column_state.size());
     off_plates_.assign(n, 0);
     const int s_min = std::max(2, p.segmentation.segments.min_segment_points);
@@ -200,20 +227,21 @@ class Matcher {
     }
     next_seg = s.segments.size();
     for (; o < s.outlier_cols.size(); ++o) off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
-    for (int col = 0; col < n; ++col)
-      if (s.column_state[col] == kColumnInvalid) off_plates_[col] = kInvalidEvent;
+    // Both loops without branches, so that they vectorise (values 0, 1, 2).
+    std::uint8_t* off = off_plates_.data();
+    for (int col = 0; col < n; ++col) off[col] = s.column_state[col] == kColumnInvalid ? kInvalidEvent : off[col];
     // The events of both kinds in one pass (events_between counts one kind).
     if (!s.cols.empty()) {
       span_ = s.cols.back() - s.cols.front() - 1;
-      std::uint8_t prev = 0;
-      for (int col = s.cols.front() + 1; col < s.cols.back(); ++col) {
-        const std::uint8_t k = off_plates_[col];
-        if (k != 0) {
-          ++gone_[k - 1];
-          events_[k - 1] += k != prev;
-        }
-        prev = k;
+      const int c0 = s.cols.front() + 1, c1 = s.cols.back();
+      if (c0 < c1 && off[c0] != 0) ++gone_[off[c0] - 1], ++events_[off[c0] - 1];
+      int g1 = 0, g2 = 0, e1 = 0, e2 = 0;
+      for (int col = c0 + 1; col < c1; ++col) {
+        const std::uint8_t k = off[col], prev = off[col - 1];
+        g1 += k == kPointEvent, g2 += k == kInvalidEvent;
+        e1 += (k == kPointEvent) & (prev != kPointEvent), e2 += (k == kInvalidEvent) & (prev != kInvalidEvent);
       }
+      gone_[0] += g1, gone_[1] += g2, events_[0] += e1, events_[1] += e2;
     }
   }
 
@@ -249,6 +277,9 @@ class Matcher {
   Vec2 origin_;
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
+  // cost() is 0 for distances up to this: found with cost()'s own arithmetic
+  // (d / sigma_ and its square are monotonic in d), so the same.
+  double zero_cost_d_ = -1.0;
   // Columns between the first and last kept point, and the random events
   // among them and their columns (events_between).
   int span_ = 0, events_[2] = {0, 0}, gone_[2] = {0, 0};
@@ -339,12 +370,16 @@ class Matcher {
   template <class F>
   void for_each_rival(const Candidate& best, F f) const {
     const Vec2& track = *best.track;
+    // Each kept rival's ratio once (a reading offered twice is listed twice).
+    std::array<double, kMaxKept> ratio;
+    std::array<bool, kMaxKept> have{};
     for (int k = 0; k < n_readings_; ++k) {
       if ((readings_[k].track - track).norm() <= p_.confidence.distinct_mm) continue;
       double strength = readings_[k].strength;
       for (int j = 0; j < n_kept_; ++j)
         if (*kept_[j].track == readings_[k].track && kept_[j].evidence.strength == strength) {
-          strength = best.evidence.strength + common_log_ratio(best, kept_[j]);
+          if (!have[j]) ratio[j] = common_log_ratio(best, kept_[j]), have[j] = true;
+          strength = best.evidence.strength + ratio[j];
           break;
         }
       f(readings_[k].track, strength);
@@ -393,6 +428,7 @@ class Matcher {
   // within noise_k sigmas (noise, waviness: no evidence either way), then
   // growing as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
   double cost(double d) const {
+    if (std::abs(d) <= zero_cost_d_) return 0.0;  // within noise_k sigmas, without the division
     const ConfidenceParams& cp = p_.confidence;
     const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
     const double x = d / sigma_;
@@ -475,14 +511,17 @@ class Matcher {
     for (std::size_t k = 0; k < removed.size(); ++k)
       point(removed[k], s_.outlier_cols[static_cast<std::size_t>(&removed[k] - s_.outlier_points.data())], 1, true);
     close();
-    int gone = 0;
-    for (int col = c0 + 1; col <= c1; ++col) {
-      if (col < c1 && s_.column_state[col] == kColumnInvalid && (col <= ca || col >= cb)) {
-        ++gone;
-      } else if (gone > 0) {
-        total += event_cost(gone, kInvalidEvent);
-        gone = 0;
-      }
+    // Each run of invalid columns outside the plates' ends, in column order
+    // (memchr finds the next invalid column: most are valid).
+    const std::uint8_t* state = s_.column_state.data();
+    for (int col = c0 + 1; col < c1;) {
+      const void* hit = std::memchr(state + col, kColumnInvalid, static_cast<std::size_t>(c1 - col));
+      if (!hit) break;
+      col = static_cast<int>(static_cast<const std::uint8_t*>(hit) - state);
+      int gone = 0;
+      for (; col < c1 && state[col] == kColumnInvalid && (col <= ca || col >= cb); ++col) ++gone;
+      if (gone > 0) total += event_cost(gone, kInvalidEvent);
+      else ++col;
     }
     return total;
   }
@@ -2188,17 +2227,66 @@ class Matcher {
       // points start none).
       const Vec2 first = i + 1 < poly.size() ? Vec2(poly[i + 1] - poly[i]) : Vec2::Zero();
       const bool drops = first.dot(down) > std::max(tol_, std::abs(first.dot(along)));
+      const Vec2 pi = poly[i];
+      // The points after i as (along, down) from it, their upper convex hull
+      // grown with j while their along offsets increase: the most any lies
+      // below the chord to j is at most the hull's maximum of down - slope *
+      // along (exact, up to rounding far below kSlack), so a j whose bound
+      // stays under the notch depth is no notch without the loop over its
+      // points. Where the offsets do not increase, every j is tested.
+      constexpr std::size_t kMaxHull = 512;
+      constexpr double kSlack = 1e-6;
+      std::array<Vec2, kMaxHull> hull;
+      std::size_t n_hull = 0, added = i + 1, top = 0;
+      bool bounded = drops;
       for (std::size_t j = i + 2; drops && j < poly.size() && (poly[j] - poly[i]).dot(along) <= max_mm; ++j) {
         const Vec2 d = poly[j] - poly[i];
         const double du = d.dot(along);
+        for (; bounded && added < j; ++added) {
+          const Vec2 q((poly[added] - pi).dot(along), (poly[added] - pi).dot(down));
+          if ((n_hull > 0 && !(q.x() > hull[n_hull - 1].x())) || n_hull == kMaxHull) {
+            bounded = false;
+            break;
+          }
+          while (n_hull >= 2) {
+            const Vec2 e = hull[n_hull - 1] - hull[n_hull - 2], f = q - hull[n_hull - 2];
+            if (e.x() * f.y() - e.y() * f.x() < 0.0) break;
+            --n_hull;
+          }
+          hull[n_hull++] = q;
+        }
         if (du <= 0.0) continue;
+        if (bounded && n_hull > 0 && du >= 1e-3) {
+          const double slope = d.dot(down) / du;
+          auto value = [&](std::size_t k) { return hull[k].y() - slope * hull[k].x(); };
+          // The hull is convex: climb from the last j's maximum (the
+          // chords' slopes change little from one j to the next).
+          top = std::min(top, n_hull - 1);
+          while (top + 1 < n_hull && value(top + 1) > value(top)) ++top;
+          while (top > 0 && value(top - 1) > value(top)) --top;
+          if (value(top) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
+        }
         bool below = true;
         double deepest = 0.0;
-        for (std::size_t m = i + 1; m < j && below; ++m) {
-          const double t = (poly[m] - poly[i]).dot(along) / du;
-          const double v = (poly[m] - (poly[i] + t * d)).dot(down);
-          below = v > -tol_;
-          deepest = std::max(deepest, v);
+        // In blocks: first the divisions, independent of each other (the
+        // loop vectorises), then the tests. On dense profiles a U's radius
+        // drops steeply over hundreds of points within max_mm: this loop
+        // ran over each pair of them. Same arithmetic as one point at a time.
+        constexpr std::size_t kBlock = 16;
+        for (std::size_t m0 = i + 1; m0 < j && below; m0 += kBlock) {
+          const std::size_t nb = std::min(kBlock, j - m0);
+          double t[kBlock];
+          for (std::size_t k = 0; k < nb; ++k) {
+            const Vec2& q = poly[m0 + k];
+            t[k] = ((q.x() - pi.x()) * along.x() + (q.y() - pi.y()) * along.y()) / du;
+          }
+          for (std::size_t k = 0; k < nb && below; ++k) {
+            const Vec2& q = poly[m0 + k];
+            const double v =
+                (q.x() - (pi.x() + t[k] * d.x())) * down.x() + (q.y() - (pi.y() + t[k] * d.y())) * down.y();
+            below = v > -tol_;
+            deepest = std::max(deepest, v);
+          }
         }
         // A notch is steep (a gap's walls, rays into it): a curved bottom
         // (a U's radius) is no notch.
@@ -2653,7 +2741,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     return;
   }
   out.status = best.accepted ? TrackStatus::Ok : TrackStatus::Rejected;
-  if (!best.accepted) out.reason = best.reason;
+  if (!best.accepted) out.reason = best.reason_text();
   if (best.accepted) {
     // How sure the reading is (ConfidenceParams, docs/JOINTS.md "Confidence").
     const ConfidenceParams& cp = p.confidence;
