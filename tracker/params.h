@@ -166,6 +166,22 @@ struct ButtParams {
   // the segment across the hole) is a gap candidate when the next (previous)
   // long segment reaches back over the pieces to it.
   bool stub_across_hole = true;
+  // Each edge is checked against the points around it, as a lap's top edge
+  // is (LapParams::check_edge, docs/JOINTS.md "Square butt"): it lies past
+  // the plate's last point and its edge preparation's (the run of points
+  // right after it behind its line that drop no more than they run on, as
+  // rounded or chamfered edges are read) and short of where the ray of the
+  // first point after them (the other plate, an edge face, the gap, or an
+  // invalid column: a ray into it) crosses the plate's line; points in
+  // front of both plates (a reflection cluster) say nothing. A reading is
+  // rejected ("uncertain") when the plate's own points (runs of 3 or more
+  // on its line, beyond a dropout or a shadow) lie more than edge_past_mm
+  // past an edge as read, or when the interval the track point (the edges'
+  // midpoint) can lie in reaches more than track_interval_mm (a false
+  // read's distance) from it. Such a reading stays a rival of the others.
+  bool check_edges = true;
+  double edge_past_mm = 0.5;
+  double track_interval_mm = 1.0;
 };
 
 struct VGrooveParams {

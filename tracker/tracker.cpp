@@ -100,6 +100,10 @@ struct Candidate {
   double track_unc = 0.0;  // half the interval the track point can lie in, from its edges
   double score = 0.0;
   bool accepted = false;
+  // Rejected by the model check only ("uncertain": the joint is there but
+  // cannot be placed to 1 mm): still a reading the others are weighed
+  // against (a weaker reading elsewhere is no surer for it).
+  bool uncertain = false;
   char reason[160] = {};
   // The accept-range check that failed (check()), written into `reason`
   // only when it is read (reason_text(): most rejected candidates never are).
@@ -335,7 +339,7 @@ class Matcher {
         return;
       }
     }
-    if (c.accepted && c.track) {
+    if ((c.accepted || c.uncertain) && c.track) {
       if (!c.weighed) c.evidence = weigh(c);
       const Reading r{*c.track, c.evidence.strength};
       if (n_readings_ < kMaxReadings) {
@@ -779,6 +783,7 @@ class Matcher {
     double along = 0.0;  // the farthest point's distance along the plate past its end (0: none)
     double depth = 0.0;  // its depth behind the plate's line
     bool wall = false;   // below it the points go straight down: the edge face
+    int col = -1;        // the farthest point's column
   };
   // The kept points in consecutive columns from beyond_col on (away from the
   // plate) that lie behind plate pl's line, past its end `near` along `dir`,
@@ -804,7 +809,7 @@ class Matcher {
       }
       // Rising again: past the bottom of a notch, on the other plate's side.
       if (h < rd.depth - tol_) break;
-      if (a > rd.along) rd.along = a, rd.depth = h;
+      if (a > rd.along) rd.along = a, rd.depth = h, rd.col = s_.cols[i];
     }
     return rd;
   }
@@ -1312,15 +1317,6 @@ class Matcher {
     const int c0 = s_.cols[u_i], c1 = s_.cols[l_i], step = c1 > c0 ? 1 : -1;
     double last = pt(u_i).dot(dir) - at;
     std::optional<double> passed;
-    // The point seen in a column: kept, or removed as an outlier.
-    auto at_col = [&](int col) -> std::optional<Vec2> {
-      const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), col);
-      if (it != s_.cols.end() && *it == col) return pt(static_cast<int>(it - s_.cols.begin()));
-      const auto jt = std::lower_bound(s_.outlier_cols.begin(), s_.outlier_cols.end(), col);
-      if (jt != s_.outlier_cols.end() && *jt == col)
-        return s_.outlier_points[static_cast<std::size_t>(jt - s_.outlier_cols.begin())];
-      return std::nullopt;
-    };
     // The points of the plate and its edge preparation (on the upper line,
     // or behind it by at most kMaxRoundingMm and off the lower plate) first:
     // a ray that reached the lower plate before one of them did not pass the
@@ -1328,7 +1324,7 @@ class Matcher {
     int last_col = c0;
     for (int col = c0 + step; col != c1; col += step) {
       if (s_.column_state[col] == kColumnInvalid) continue;
-      const auto q = at_col(col);
+      const auto q = point_at_col(col);
       if (!q) continue;
       const double du = upper.line.signed_distance(*q), dl = lower.line.signed_distance(*q);
       if (std::abs(du) <= tol_ || (du < -tol_ && du >= -kMaxRoundingMm && dl > tol_)) {
@@ -1338,17 +1334,84 @@ class Matcher {
     }
     for (int col = last_col + step; col != c1 && !passed; col += step) {
       if (s_.column_state[col] == kColumnInvalid) continue;
-      const auto q = at_col(col);
-      if (q && lower.line.distance(*q) <= tol_) {
-        const auto x = ray_hit(col, upper.line);
-        passed = x ? x->dot(dir) - at : 0.0;
+      const auto q = point_at_col(col);
+      if (q && lower.line.distance(*q) <= tol_) passed = hit_along(col, upper.line, dir, at);
+    }
+    if (!passed) passed = hit_along(c1, upper.line, dir, at);
+    return EdgeInterval{std::max(0.0, last), std::max(0.0, *passed), std::max(0.0, -last)};
+  }
+
+  // Where column col's ray meets line l, along dir from `at` (0: it does not).
+  double hit_along(int col, const Line& l, const Vec2& dir, double at) const {
+    const auto x = ray_hit(col, l);
+    return x ? x->dot(dir) - at : 0.0;
+  }
+
+  // The point seen in a column: kept, or removed as an outlier.
+  std::optional<Vec2> point_at_col(int col) const {
+    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), col);
+    if (it != s_.cols.end() && *it == col) return pt(static_cast<int>(it - s_.cols.begin()));
+    const auto jt = std::lower_bound(s_.outlier_cols.begin(), s_.outlier_cols.end(), col);
+    if (jt != s_.outlier_cols.end() && *jt == col)
+      return s_.outlier_points[static_cast<std::size_t>(jt - s_.outlier_cols.begin())];
+    return std::nullopt;
+  }
+
+  // Where a butt plate's edge can lie, along the plate's line from the edge
+  // `edge` as read (outwards positive), from the columns between the plate's
+  // end (end_pt, in column end_col) and the other plate's (other_end, in
+  // column other_col): past the plate's edge preparation (rounding(): the
+  // run of points right after its end behind its line that drop no more
+  // than they run on) and its own points beyond a dropout or a shadow (runs
+  // on its line, short of the other plate's edge preparation), and short of
+  // where the ray of the first column after them crosses its line (a point
+  // on the other plate, its edge face, in the gap, or an invalid column: a
+  // ray into the gap). Points in front of both plates (a reflection
+  // cluster) say nothing. `past`: how far the plate's own points lie past
+  // the edge as read.
+  static constexpr int kMinPlateRun = 3;
+  EdgeInterval butt_edge_interval(const Plate& pl, const Plate& other, const Vec2& end_pt, int end_col,
+                                  const Vec2& other_end, int other_col, const Vec2& edge) const {
+    const Vec2 near = pl.line.project(end_pt);
+    const Vec2 dir = outward(pl, near);
+    const double at = edge.dot(dir);
+    const int step = other_col > end_col ? 1 : -1;
+    const Rounding rd = rounding(pl, near, dir, end_col + step);
+    double last = near.dot(dir) - at + rd.along;
+    double past = -std::numeric_limits<double>::infinity();  // the plate's own points past the edge
+    int last_col = rd.along > 0.0 ? rd.col : end_col;
+    auto in_front = [&](const Vec2& q) {
+      return pl.line.signed_distance(q) > tol_ && other.line.signed_distance(q) > tol_;
+    };
+    // The plate's points past a dropout or a shadow: runs of at least
+    // kMinPlateRun points in consecutive columns on its line (an edge face
+    // crossing it leaves one or two), short of the other plate's edge
+    // preparation.
+    const Rounding ro = rounding(other, other.line.project(other_end), outward(other, other.line.project(other_end)),
+                                 other_col - step);
+    const int stop = ro.along > 0.0 && (ro.col - end_col) * step > 0 && (other_col - ro.col) * step >= 0 ? ro.col : other_col;
+    int run = 0;
+    double run_far = -std::numeric_limits<double>::infinity();
+    for (int col = end_col + step; (stop - col) * step > 0; col += step) {
+      const auto q = point_at_col(col);
+      if (!q || pl.line.distance(*q) > tol_ || other.line.distance(*q) <= tol_) {
+        run = 0, run_far = -std::numeric_limits<double>::infinity();
+        continue;
+      }
+      run_far = std::max(run_far, q->dot(dir) - at);
+      if (++run >= kMinPlateRun) {
+        last = std::max(last, run_far), past = std::max(past, run_far);
+        if ((col - last_col) * step > 0) last_col = col;
       }
     }
-    if (!passed) {
-      const auto x = ray_hit(c1, upper.line);
-      passed = x ? x->dot(dir) - at : 0.0;
+    std::optional<double> passed;
+    for (int col = last_col + step; (other_col - col) * step > 0 && !passed; col += step) {
+      const auto q = point_at_col(col);
+      if (s_.column_state[col] != kColumnInvalid && (!q || in_front(*q))) continue;
+      passed = hit_along(col, pl.line, dir, at);
     }
-    return EdgeInterval{std::max(0.0, last), std::max(0.0, *passed), std::max(0.0, -last)};
+    if (!passed) passed = hit_along(other_col, pl.line, dir, at);
+    return EdgeInterval{std::max(0.0, past), std::max(0.0, *passed), std::max(0.0, -last)};
   }
 
   // Longest run of consecutive invalid columns strictly between columns a < b.
@@ -1414,6 +1477,29 @@ class Matcher {
     c.opening = {el.point, er.point, ia, ib, std::max(el.half_width_mm, back_a) + tol_,
                  std::max(er.half_width_mm, back_b) + tol_};
     c.accepted = check(c, "gap", c.gap, bp.gap_mm, "mm") && check(c, "mismatch", c.mismatch, bp.mismatch_mm, "mm");
+    // The model check: each edge as read must lie where the points around
+    // it allow, and the track point (their midpoint) be placed to
+    // track_interval_mm (ButtParams::check_edges).
+    if (bp.check_edges && c.accepted) {
+      const EdgeInterval ia_ = butt_edge_interval(a, b, a_end, a_col, b_end, b_col, el.point);
+      const EdgeInterval ib_ = butt_edge_interval(b, a, b_end, b_col, a_end, a_col, er.point);
+      // Along a's outward direction (towards b) the track point moves by
+      // half of each edge's shift, b's outward direction being the opposite.
+      const double reach = 0.5 * std::max(ia_.after + ib_.before, ia_.before + ib_.after);
+      if (std::max(ia_.past, ib_.past) > bp.edge_past_mm) {
+        c.accepted = false, c.uncertain = true;
+        std::snprintf(c.reason, sizeof c.reason,
+                      "uncertain: a plate's points lie %.2g mm past its edge as read (beyond a dropout or a "
+                      "shadow: the edge is not where it is read)",
+                      std::max(ia_.past, ib_.past));
+      } else if (reach > bp.track_interval_mm) {
+        c.accepted = false, c.uncertain = true;
+        std::snprintf(c.reason, sizeof c.reason,
+                      "uncertain: the gap centre may lie %.2g mm from where it is read (the plates' edges lie "
+                      "between their last points and the first rays past them)",
+                      reach);
+      }
+    }
     offer(c);
   }
 

@@ -84,7 +84,9 @@ struct TrackResult {
   std::optional<Vec2> rival_track_point;
   double rival_strength = 0.0;
   // Every accepted reading (at most 32, the strongest), the chosen one among
-  // them: where the template saw the joint and how strongly.
+  // them, and those the model check left `uncertain` (a butt's edges: the
+  // joint is there but not placed to 1 mm; they stay rivals of the others):
+  // where the template saw the joint and how strongly.
   struct Reading {
     Vec2 track_point = Vec2::Zero();
     double strength = 0.0;

@@ -31,7 +31,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {48, 0.75}},
+      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {34, 0.75}},
       {tk::JointType::VGroove, {76, 0.72}},
   };
   for (const auto& [joint, limit] : limits) {
