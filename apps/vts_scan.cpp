@@ -236,11 +236,11 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
   scan->add_flag("--camera-image", o.camera_image,
                  "Profiles from the camera's image instead of the error model: the stripe rendered "
                  "as the sensor's camera sees it (sheet thickness, reflectance, one bounce of "
-                 "laser light, speckle, noise, saturation) and its peaks detected per column "
+                 "laser light, the stripe mirrored in the part's planes, speckle, noise, saturation) and its peaks detected per column "
                  "(docs/SENSOR_MODEL.md, \"The camera image\")");
   scan->add_option("--images", o.images,
                    "With --camera-image: also write each profile's image (PNG) and its labels "
-                   "(CSV: true stripe row, bounce, which peak is true, which was chosen) into DIR")
+                   "(CSV: true stripe row, bounce and mirror rows, which peak is true, which was chosen) into DIR")
       ->type_name("DIR");
   scan->add_option("--out", o.out,
                    "Output profile file (EXR, docs/EXR_FORMAT.md). Default: <cell name>.exr in "
