@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "sensor/camera_image.h"
 #include "sensor/image_io.h"
 #include "sensor/presets.h"
 #include "sensor/profile_csv.h"
@@ -44,7 +45,17 @@ std::string with_option_name(const std::string& message) {
 
 int run_peaks(const PeaksOptions& o) {
   // Everything is checked before anything is written.
-  stripe::PeakParams params;
+  std::optional<ScannerDesc> sensor;
+  if (!o.sensor.empty()) {
+    sensor = sensor_preset(o.sensor);
+    if (!sensor)
+      cli::bad("--sensor", o.sensor,
+               "unknown sensor; valid names: " + join_names(sensor_preset_names()) + " (see `vts sensors`)");
+  }
+  // The detector: the preset's (its peak_* fields, as `vts scan --camera-image`
+  // runs it) with --sensor, else the detector's own defaults; each option
+  // below overrides.
+  stripe::PeakParams params = sensor ? peak_params(*sensor) : stripe::PeakParams{};
   if (!o.threshold.empty()) params.threshold_dn = cli::parse_positive("--threshold", o.threshold, "DN");
   if (!o.threshold_rel.empty()) params.threshold_rel = cli::parse_number("--threshold-rel", o.threshold_rel, "");
   if (!o.method.empty()) {
@@ -78,13 +89,6 @@ int run_peaks(const PeaksOptions& o) {
   if (!o.bits.empty()) {
     bits = static_cast<int>(cli::parse_integer("--bits", o.bits, 8, 16));
     if (bits != 8 && bits != 10 && bits != 12 && bits != 16) cli::bad("--bits", o.bits, "expected 8, 10, 12 or 16");
-  }
-  std::optional<ScannerDesc> sensor;
-  if (!o.sensor.empty()) {
-    sensor = sensor_preset(o.sensor);
-    if (!sensor)
-      cli::bad("--sensor", o.sensor,
-               "unknown sensor; valid names: " + join_names(sensor_preset_names()) + " (see `vts sensors`)");
   }
   if (!o.profile.empty() && !sensor) cli::bad("--profile", o.profile, "needs --sensor PRESET (the camera model)");
   if (!o.row_offset.empty() && !sensor) cli::bad("--row-offset", o.row_offset, "needs --sensor PRESET");
@@ -164,16 +168,16 @@ CLI::App* add_peaks_command(CLI::App& app, int& exit_code) {
                   "Peaks CSV to write (default: IMAGE's name with .peaks.csv, in the working directory); written "
                   "whole or not at all")
       ->type_name("FILE.csv");
-  cmd->add_option("--threshold", o->threshold, "Lit above this many DN (default: full scale / 16)")->type_name("DN");
+  cmd->add_option("--threshold", o->threshold, "Lit above this many DN (default: the --sensor preset's, else full scale / 16)")->type_name("DN");
   cmd->add_option("--threshold-rel", o->threshold_rel,
                   "Lit above this fraction of the column's maximum too, 0..1 (default 0)")
       ->type_name("F");
-  cmd->add_option("--method", o->method, "Sub-pixel position: cog, gaussian (default) or parabolic")
+  cmd->add_option("--method", o->method, "Sub-pixel position: cog, gaussian or parabolic (default: the --sensor preset's, cog; else gaussian)")
       ->type_name("NAME");
   cmd->add_option("--policy", o->policy,
-                  "Peak chosen per column: strongest (default), first, last, widest or continuous")
+                  "Peak chosen per column: strongest, first, last, widest or continuous (default: the --sensor preset's, continuous; else strongest)")
       ->type_name("NAME");
-  cmd->add_option("--window", o->window, "Half width of the sub-pixel window, rows, 1..32 (default 3)")
+  cmd->add_option("--window", o->window, "Half width of the sub-pixel window, rows, 1..32 (default: the --sensor preset's, 4; else 3)")
       ->type_name("N");
   cmd->add_option("--min-width", o->min_width, "Fewest lit rows of a peak (default 1)")->type_name("N");
   cmd->add_option("--min-separation", o->min_separation,

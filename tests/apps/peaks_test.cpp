@@ -153,6 +153,8 @@ TEST_CASE("vts peaks --sensor: a plane at a known range gives its profile", "[ap
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(contains(r.out, "profile through mspot's camera: " + std::to_string(w) + " valid points; wrote plane.csv"));
+  // The preset's detector (its peak_* fields), as the image mode runs it.
+  CHECK(contains(r.out, "one chosen (" + desc->peak_policy + ")"));
   std::string header;
   const auto rows = csv_rows(slurp(dir.path / "plane.csv"), header);
   CHECK(header == "profile,y,z,valid");
@@ -164,6 +166,12 @@ TEST_CASE("vts peaks --sensor: a plane at a known range gives its profile", "[ap
     CHECK(std::stod(rows[c][2]) == Approx(z0).margin(0.001));
     CHECK(rows[c][3] == "1");
   }
+  // An option overrides the preset's detector; without --sensor the
+  // detector's own defaults apply.
+  const Result strongest = run_vts(dir, "peaks plane.png --sensor mspot --policy strongest --out p1.csv --threshold 1000");
+  CHECK(contains(strongest.out, "one chosen (strongest)"));
+  const Result plain = run_vts(dir, "peaks plane.png --out p2.csv --threshold 1000");
+  CHECK(contains(plain.out, "one chosen (strongest)"));
   // An image of another size is not this camera's.
   Picture(w / 2, 40).write(dir.path / "small.png", 16);
   const Result bad = run_vts(dir, "peaks small.png --sensor mspot --out s.csv");
