@@ -127,6 +127,26 @@ const std::vector<NumberField>& number_fields() {
       {"vts.scanner.rough_offset_max_mm", &ScannerDesc::rough_offset_max_mm},
       {"vts.scanner.dropout_prob_normal", &ScannerDesc::dropout_prob_normal},
       {"vts.scanner.dropout_prob_grazing", &ScannerDesc::dropout_prob_grazing},
+      // The camera image's (added with it; docs/SENSOR_MODEL.md "The camera image").
+      {"vts.scanner.scheimpflug_deg", &ScannerDesc::scheimpflug_deg},
+      {"vts.scanner.f_number", &ScannerDesc::f_number},
+      {"vts.scanner.wavelength_nm", &ScannerDesc::wavelength_nm},
+      {"vts.scanner.psf_sigma_px", &ScannerDesc::psf_sigma_px},
+      {"vts.scanner.laser_power_mw", &ScannerDesc::laser_power_mw},
+      {"vts.scanner.sheet_waist_mm", &ScannerDesc::sheet_waist_mm},
+      {"vts.scanner.sheet_focus_mm", &ScannerDesc::sheet_focus_mm},
+      {"vts.scanner.sheet_m2", &ScannerDesc::sheet_m2},
+      {"vts.scanner.exposure_us", &ScannerDesc::exposure_us},
+      {"vts.scanner.gain", &ScannerDesc::gain},
+      {"vts.scanner.quantum_efficiency", &ScannerDesc::quantum_efficiency},
+      {"vts.scanner.full_well_e", &ScannerDesc::full_well_e},
+      {"vts.scanner.read_noise_e", &ScannerDesc::read_noise_e},
+      {"vts.scanner.dark_offset_dn", &ScannerDesc::dark_offset_dn},
+      {"vts.scanner.ambient_w_m2", &ScannerDesc::ambient_w_m2},
+      {"vts.scanner.specular_reflectance", &ScannerDesc::specular_reflectance},
+      {"vts.scanner.specular_lobe_deg", &ScannerDesc::specular_lobe_deg},
+      {"vts.scanner.speckle_contrast", &ScannerDesc::speckle_contrast},
+      {"vts.scanner.peak_threshold_dn", &ScannerDesc::peak_threshold_dn},
   };
   return fields;
 }
@@ -137,6 +157,10 @@ const std::vector<IntField>& int_fields() {
       {"vts.scanner.image_width_px", &ScannerDesc::image_width_px},
       {"vts.scanner.image_height_px", &ScannerDesc::image_height_px},
       {"vts.scanner.shiny_cluster_max_points", &ScannerDesc::shiny_cluster_max_points},
+      {"vts.scanner.image_bits", &ScannerDesc::image_bits},
+      {"vts.scanner.image_roi_first_row", &ScannerDesc::image_roi_first_row},
+      {"vts.scanner.image_roi_rows", &ScannerDesc::image_roi_rows},
+      {"vts.scanner.peak_window_px", &ScannerDesc::peak_window_px},
   };
   return fields;
 }
@@ -190,6 +214,10 @@ std::vector<std::pair<std::string, std::string>> profile_attributes(const Profil
   for (const NumberField& f : number_fields()) put(f.attribute, format_double(s.*f.member));
   for (const IntField& f : int_fields()) put(f.attribute, std::to_string(s.*f.member));
   put("vts.scanner.material", s.material);
+  put("vts.scanner.peak_method", s.peak_method);
+  put("vts.scanner.peak_policy", s.peak_policy);
+  put("vts.scanner.image_noise", s.image_noise ? "true" : "false");
+  put("vts.scanner.camera_image", s.camera_image ? "true" : "false");
   put("vts.error_model", info.error_model ? kModelOn : kModelOff);
   put("vts.scene.name", info.scene_name);
   put("vts.scene.yaml", info.scene_text);
@@ -775,6 +803,16 @@ void Reader::open() {
   for (const IntField& f : int_fields())
     if (has(f.attribute)) s.*f.member = integer(f.attribute);
   if (has("vts.scanner.material")) s.material = text("vts.scanner.material");
+  if (has("vts.scanner.peak_method")) s.peak_method = text("vts.scanner.peak_method");
+  if (has("vts.scanner.peak_policy")) s.peak_policy = text("vts.scanner.peak_policy");
+  for (const auto& [attribute, member] : {std::pair{"vts.scanner.image_noise", &ScannerDesc::image_noise},
+                                          std::pair{"vts.scanner.camera_image", &ScannerDesc::camera_image}}) {
+    if (!has(attribute)) continue;
+    const std::string& v = text(attribute);
+    if (v != "true" && v != "false")
+      throw fail(std::string("attribute ") + attribute + " = '" + v + "', expected 'true' or 'false'");
+    s.*member = v == "true";
+  }
   if (has("vts.error_model")) {
     const std::string& model = text("vts.error_model");
     if (model == kModelOn)

@@ -648,3 +648,84 @@ TEST_CASE("exr: a file cut in its pixels streams up to the cut, then fails as a 
   }
   CHECK(message == whole_message);
 }
+
+TEST_CASE("exr: the camera image's scanner fields round-trip, and files without them read the defaults", "[exr]") {
+  TempDir dir;
+  ProfileFileInfo info = make_info(64, 3, false);
+  vts::ScannerDesc& s = info.scanner;
+  s.scheimpflug_deg = 2.5;
+  s.f_number = 4.0;
+  s.wavelength_nm = 450.0;
+  s.psf_sigma_px = 0.8;
+  s.laser_power_mw = 1.0 / 3.0;  // not representable in few digits
+  s.sheet_waist_mm = 0.07;
+  s.sheet_focus_mm = 150.0;
+  s.sheet_m2 = 1.1;
+  s.exposure_us = 123.0;
+  s.gain = 2.0;
+  s.quantum_efficiency = 0.3;
+  s.full_well_e = 8000.0;
+  s.read_noise_e = 7.5;
+  s.dark_offset_dn = 3.0;
+  s.ambient_w_m2 = 0.0;
+  s.specular_reflectance = 0.5;
+  s.specular_lobe_deg = 2.0;
+  s.speckle_contrast = 0.6;
+  s.peak_threshold_dn = 40.0;
+  s.image_bits = 12;
+  s.image_roi_first_row = 100;
+  s.image_roi_rows = 64;
+  s.peak_window_px = 6;
+  s.peak_method = "gaussian";
+  s.peak_policy = "strongest";
+  s.image_noise = false;
+  s.camera_image = true;
+  const fs::path file = dir.path / "image.exr";
+  write_random(file, info, 7u);
+  const vts::ScannerDesc got = vts::read_profile_exr(file).info.scanner;
+  CHECK(got.scheimpflug_deg == s.scheimpflug_deg);
+  CHECK(got.f_number == s.f_number);
+  CHECK(got.wavelength_nm == s.wavelength_nm);
+  CHECK(got.psf_sigma_px == s.psf_sigma_px);
+  CHECK(got.laser_power_mw == s.laser_power_mw);
+  CHECK(got.sheet_waist_mm == s.sheet_waist_mm);
+  CHECK(got.sheet_focus_mm == s.sheet_focus_mm);
+  CHECK(got.sheet_m2 == s.sheet_m2);
+  CHECK(got.exposure_us == s.exposure_us);
+  CHECK(got.gain == s.gain);
+  CHECK(got.quantum_efficiency == s.quantum_efficiency);
+  CHECK(got.full_well_e == s.full_well_e);
+  CHECK(got.read_noise_e == s.read_noise_e);
+  CHECK(got.dark_offset_dn == s.dark_offset_dn);
+  CHECK(got.ambient_w_m2 == s.ambient_w_m2);
+  CHECK(got.specular_reflectance == s.specular_reflectance);
+  CHECK(got.specular_lobe_deg == s.specular_lobe_deg);
+  CHECK(got.speckle_contrast == s.speckle_contrast);
+  CHECK(got.peak_threshold_dn == s.peak_threshold_dn);
+  CHECK(got.image_bits == 12);
+  CHECK(got.image_roi_first_row == 100);
+  CHECK(got.image_roi_rows == 64);
+  CHECK(got.peak_window_px == 6);
+  CHECK(got.peak_method == "gaussian");
+  CHECK(got.peak_policy == "strongest");
+  CHECK_FALSE(got.image_noise);
+  CHECK(got.camera_image);
+
+  // A file written before these fields existed (the attributes renamed away
+  // with the same length, so the file stays valid) reads the defaults.
+  std::string bytes = slurp(file);
+  for (const char* name : {"vts.scanner.exposure_us", "vts.scanner.peak_policy", "vts.scanner.camera_image"}) {
+    const std::string from = std::string(name) + '\0';
+    std::string to = from;
+    to.replace(0, 4, "xyz.");
+    const auto at = bytes.find(from);
+    REQUIRE(at != std::string::npos);
+    bytes.replace(at, from.size(), to);
+  }
+  spit(dir.path / "old.exr", bytes);
+  const vts::ScannerDesc old = vts::read_profile_exr(dir.path / "old.exr").info.scanner;
+  CHECK(old.exposure_us == vts::ScannerDesc{}.exposure_us);
+  CHECK(old.peak_policy == vts::ScannerDesc{}.peak_policy);
+  CHECK_FALSE(old.camera_image);
+  CHECK(old.f_number == s.f_number);  // the others still read
+}
