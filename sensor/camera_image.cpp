@@ -286,7 +286,8 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   const bool bounce = d.specular_reflectance > 0.0;
   const Eigen::Vector3d plane_normal = rot.col(0);  // the laser plane's normal, world
   const Pose sensor_from_world = world_from_sensor.inverse();
-  // Lit and seen from `from` towards the camera: the off-axis falloff.
+  // The off-axis falloff cos^4 for light leaving along `view` (unit,
+  // towards the camera).
   const auto vignetting = [&](const Eigen::Vector3d& view) {
     const double cos_off = std::max(0.0, axis_world.dot(-view));
     return std::pow(cos_off, 4);

@@ -358,11 +358,9 @@ void App::take_scans() {
       }
     }
   }
-  if (scanned.image) {
+  // The image the latest profile was read from; none outside the image mode.
+  if (scanned.image || last_image_) {
     last_image_ = std::move(scanned.image);
-    ++image_serial_;
-  } else if (last_image_ && !camera_image()) {
-    last_image_.reset();
     ++image_serial_;
   }
   last_ideal_ = std::move(scanned.ideal.back());
