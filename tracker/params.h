@@ -209,6 +209,18 @@ struct VGrooveParams {
   // bevel keeps the top it needs). The butt's and lap's plates are held
   // to the same angle.
   double max_top_angle_deg = 15.0;
+  // The model check of an open root: the rays between its edges go into the
+  // opening, where a backing bar or the root faces show straight or concave.
+  // Kept points there (at least root_cover_points, spanning at least
+  // root_cover_share of the opening) that a parabola fits as a cap convex
+  // towards the sensor (its curvature at least root_bump_t standard errors
+  // from straight, given the profile's noise) and higher than the surface
+  // tolerance in front of the root edges' line are something in the root
+  // (a tack weld, a bead): the reading is rejected as `uncertain`.
+  bool check_root_cover = true;
+  double root_cover_share = 0.5;
+  int root_cover_points = 5;
+  double root_bump_t = 4.0;
 };
 
 // The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md

@@ -2602,6 +2602,7 @@ class Matcher {
       }
       const int from = bl.last + 1, to = br.first - 1;
       Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+      bool open_root = false;
       // Bevels that meet between two neighbouring rays are a closed root; a run
       // of invalid columns between them is the root opening (the rays went
       // through it and found nothing).
@@ -2626,6 +2627,7 @@ class Matcher {
         }
         el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to), {}, true);
         er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to), {}, true);
+        open_root = true;
       }
       // The plates' surface direction: from the tops, else square to the bisector.
       Vec2 dp;
@@ -2685,8 +2687,66 @@ class Matcher {
       c.accepted = check(c, "angle", c.angle, vp.angle_deg, "deg") && check(c, "gap", c.gap, vp.gap_mm, "mm") &&
                    check(c, "mismatch", c.mismatch, vp.mismatch_mm, "mm") &&
                    check(c, "depth", c.depth, vp.depth_mm, "mm");
+      if (vp.check_root_cover && c.accepted && open_root) {
+        if (const RootBump rb = root_bump(el.point, er.point, from, to);
+            rb.points >= vp.root_cover_points && rb.share >= vp.root_cover_share && rb.height_mm > tol_ &&
+            rb.curvature_t >= vp.root_bump_t) {
+          c.accepted = false, c.uncertain = true;
+          std::snprintf(c.reason, sizeof c.reason,
+                        "uncertain: a bump %.2g mm high over %.0f %% of the root opening (%d points; a tack weld "
+                        "or a bead in the root?)",
+                        rb.height_mm, 100.0 * rb.share, rb.points);
+        }
+      }
       offer(c);
     }
+  }
+
+  // The kept points from..to between an open root's edges a and b (their
+  // projections on the line a -> b inside it), as heights h in front of
+  // that line (on the sensor's side) against the distance s along it, fitted
+  // by h = c0 + c1 s + c2 s^2 (least squares): their number, the share of
+  // the opening their projections span, the fit's highest point above the
+  // line, and how many standard errors (from the noise sigma_) its
+  // curvature is convex towards the sensor (-c2 / se(c2); 0 if concave or
+  // too few points). A backing bar or a root face seen through the opening
+  // is straight or concave; a tack weld or a bead is a convex cap.
+  struct RootBump {
+    int points = 0;
+    double share = 0.0, height_mm = 0.0, curvature_t = 0.0;
+  };
+  RootBump root_bump(const Vec2& a, const Vec2& b, int from, int to) const {
+    RootBump rb;
+    const Vec2 ab = b - a;
+    const double len = ab.norm();
+    if (!(len > 0.0) || from > to) return rb;
+    const Vec2 u = ab / len;
+    Vec2 n(-u.y(), u.x());
+    if (n.dot(origin_ - a) < 0.0) n = -n;
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d aty = Eigen::Vector3d::Zero();
+    double lo = len, hi = 0.0;
+    for (int i = from; i <= to; ++i) {
+      const Vec2 q = pt(i);
+      const double sa = (q - a).dot(u), h = (q - a).dot(n);
+      if (sa <= 0.0 || sa >= len) continue;
+      const Eigen::Vector3d x(1.0, sa, sa * sa);
+      ata += x * x.transpose();
+      aty += x * h;
+      ++rb.points;
+      lo = std::min(lo, sa), hi = std::max(hi, sa);
+    }
+    if (rb.points < 4) return rb;
+    rb.share = (hi - lo) / len;
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
+    if (ldlt.info() != Eigen::Success) return rb;
+    const Eigen::Vector3d c = ldlt.solve(aty);
+    const double var2 = ldlt.solve(Eigen::Vector3d::UnitZ())(2);
+    if (!(var2 > 0.0) || !std::isfinite(c(2))) return rb;
+    for (const double sa : {lo, hi, std::clamp(-c(1) / (2.0 * c(2)), lo, hi)})
+      rb.height_mm = std::max(rb.height_mm, c(0) + c(1) * sa + c(2) * sa * sa);
+    if (c(2) < 0.0) rb.curvature_t = -c(2) / (sigma_ * std::sqrt(var2));
+    return rb;
   }
 };
 

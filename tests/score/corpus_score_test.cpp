@@ -32,7 +32,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
       {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {34, 0.75}},
-      {tk::JointType::VGroove, {76, 0.72}},
+      {tk::JointType::VGroove, {59, 0.72}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -185,6 +185,27 @@ TEST_CASE("corpus: a lap's upper plate reaches past reflection clusters to its e
     INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
                  << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: a tack weld in a v-groove's root is not read as an open root", "[tracker][corpus]") {
+  // Development seeds (seed, noise level), each a false read before the
+  // open root's model check (VGrooveParams::check_root_cover): a tack weld
+  // fills the root (the joint hidden, truth from the corpus' section), the
+  // bevels end at its toes 1.0-1.25 mm above the root, and its cap between
+  // them was read as the root opening. Each must now be rejected (the
+  // reason reported is the best reading left's: the check takes the
+  // template's reading out, and what remains is "unexplained" points or
+  // "inside a wider groove").
+  const std::pair<std::uint64_t, double> cases[] = {{116, kIdealLevel}, {281, kIdealLevel}, {116, 0.005},
+                                                    {239, 0.02},        {255, 0.05}};
+  for (const auto& [seed, level] : cases) {
+    const ReadOne one = read_one(vc::Joint::VGroove, seed, level);
+    INFO("seed " << seed << " level " << level << ": " << tk::to_string(one.result.status) << " "
+                 << one.result.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.profile.truth.has_tag("tack_weld"));
+    CHECK(one.profile.truth.has_tag("joint_hidden"));
+    CHECK(one.result.status == tk::TrackStatus::Rejected);
   }
 }
 

@@ -294,6 +294,48 @@ TEST_CASE("butt: gap and mismatch between two plates", "[tracker][butt]") {
   }
 }
 
+TEST_CASE("butt: a tack weld over the joint is never read as its gap", "[tracker][butt]") {
+  // Plates at z = 100 with a 1 mm gap at y = 0.2 (the right plate raised by
+  // 0, 0.5 mm: a mismatch) and a tack weld over it: a circle of radius 3 mm
+  // on the gap's centre whose top lies 1 mm in front of the lower plate.
+  // Its feet lie 2.2-2.3 mm from the gap's centre (y^2 + (z - 102)^2 = 9 at
+  // z = 100: |y| = 2.24), so a reading at a foot, or across the cap, is a
+  // false read; the joint is hidden: the honest answer is "not sure" (today
+  // the plates' curvature, the edge check or the unexplained points say
+  // it). The same plates without the tack are read at the gap. Ideal and at
+  // 0.02 and 0.05 mm noise (seeded).
+  for (const double mismatch : {0.0, 0.5}) {
+    const double yl = -0.3, yr = 0.7;
+    std::vector<synth::Piece> open = {{Vec2(-80, 100), Vec2(yl, 100)},
+                                      {Vec2(yl, 100), Vec2(yl, 106)},
+                                      {Vec2(yr, 100 - mismatch), Vec2(80, 100 - mismatch)},
+                                      {Vec2(yr, 100 - mismatch), Vec2(yr, 106 - mismatch)}};
+    std::vector<synth::Piece> tacked = open;
+    const Vec2 centre(0.2, 102.0);
+    const int n_arc = 180;
+    auto on_circle = [&](int k) {
+      const double a = 2.0 * std::numbers::pi * k / n_arc;
+      return Vec2(centre.x() + 3.0 * std::sin(a), centre.y() - 3.0 * std::cos(a));
+    };
+    for (int k = 0; k < n_arc; ++k) tacked.push_back({on_circle(k), on_circle(k + 1)});
+    for (const double sigma : {0.0, 0.02, 0.05}) {
+      auto with_noise = [&](const std::vector<synth::Piece>& pieces) {
+        auto p = synth::sample(pieces, 1024);
+        if (sigma > 0.0) synth::add_noise(p, sigma, 23);
+        return p;
+      };
+      INFO("mismatch " << mismatch << " mm, noise " << sigma << " mm");
+      const auto rt = track(with_noise(tacked), tk::JointType::Butt);
+      INFO("tack: " << tk::to_string(rt.status) << " " << rt.reason);
+      CHECK(rt.status != tk::TrackStatus::Ok);
+      const auto ro = track(with_noise(open), tk::JointType::Butt);
+      INFO("open: " << tk::to_string(ro.status) << " " << ro.reason);
+      REQUIRE(ro.status == tk::TrackStatus::Ok);
+      CHECK((*ro.track_point - Vec2(0.2, 100)).norm() < 0.1 + 3.0 * sigma);
+    }
+  }
+}
+
 TEST_CASE("butt: coplanar plates merged across the gap are still split at it", "[tracker][butt]") {
   // A 3-column gap: the merge joins the plates (gap < 10 points, same line).
   auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
@@ -878,6 +920,53 @@ TEST_CASE("v-groove: a dropout on each side of a top edge does not hide the corn
   const auto r2 = track(p, tk::JointType::VGroove, params);
   CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.break_points[1] - lt).norm() < 1e-3 &&
           std::abs(r2.angle_deg - 60.0) < 1e-3));
+}
+
+TEST_CASE("v-groove: a tack weld in the root is no open root, a backing bar or root faces are", "[tracker][vgroove]") {
+  // The groove of "root, angle, depth and area" (60 degrees, 1.2 mm gap,
+  // root at z = 100) without its root faces, and in its root (a) a tack
+  // weld: a circle of radius 2.5 mm on the axis whose top lies 1.5 mm above
+  // the root edges' level; the rays meet the bevels first where the circle
+  // lies inside the plates, so the profile shows the bevels down to the
+  // tack's toes (where y = 0.6 + (100 - z) tan 30 meets y^2 + (z - 101)^2 =
+  // 2.5^2: z = 98.86, 1.14 mm above the root) and its cap, 0.36 mm high,
+  // between them. Read as an open root, the track point would be the toes'
+  // midpoint: a false read 1.14 mm from the root. (This tack is also
+  // rejected without the open root's check, as points the reading leaves
+  // unexplained; the corpus' profiles that only that check rejects are in
+  // tests/score "a tack weld in a v-groove's root".) (b) a backing
+  // bar flush with the root edges (the plates' bottom), (c) the root faces
+  // 1.5 mm deep and nothing behind: both open roots, read ok at the root.
+  // Ideal and at 0.02 and 0.05 mm noise (seeded).
+  const Groove g;
+  const Vec2 top(0.0, 100.0 - 1.5);
+  const double radius = 2.5;
+  std::vector<synth::Piece> tack = {{Vec2(-80, 92), g.lt}, {g.lt, g.lr}, {g.rr, g.rt}, {g.rt, Vec2(80, 92)}};
+  const int n_arc = 180;
+  auto on_circle = [&](int k) {
+    const double a = 2.0 * std::numbers::pi * k / n_arc;
+    return Vec2(top.x() + radius * std::sin(a), top.y() + radius * (1.0 - std::cos(a)));
+  };
+  for (int k = 0; k < n_arc; ++k) tack.push_back({on_circle(k), on_circle(k + 1)});
+  const std::vector<synth::Piece> bar = {{Vec2(-80, 92), g.lt}, {g.lt, g.lr}, {g.rr, g.rt}, {g.rt, Vec2(80, 92)},
+                                         {Vec2(-10, 100), Vec2(10, 100)}};
+  for (const double sigma : {0.0, 0.02, 0.05}) {
+    auto with_noise = [&](const std::vector<synth::Piece>& pieces) {
+      auto p = synth::sample(pieces, 512);
+      if (sigma > 0.0) synth::add_noise(p, sigma, 17);
+      return p;
+    };
+    INFO("noise " << sigma << " mm");
+    const auto rt = track(with_noise(tack), tk::JointType::VGroove);
+    INFO("tack: " << tk::to_string(rt.status) << " " << rt.reason);
+    CHECK(rt.status != tk::TrackStatus::Ok);
+    for (const auto* pieces : {&bar, static_cast<const std::vector<synth::Piece>*>(nullptr)}) {
+      const auto r = track(with_noise(pieces ? *pieces : g.pieces()), tk::JointType::VGroove);
+      INFO((pieces ? "backing bar: " : "root faces: ") << tk::to_string(r.status) << " " << r.reason);
+      REQUIRE(r.status == tk::TrackStatus::Ok);
+      CHECK((*r.track_point - Vec2(0, 100)).norm() < 0.1 + 3.0 * sigma);
+    }
+  }
 }
 
 TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap]") {
