@@ -266,7 +266,7 @@ CLI::App* add_scan_command(CLI::App& app, ScanOptions& o) {
 static void report_mesh_workpieces(const Cell& cell) {
   for (std::size_t i = 0; i < cell.workpieces.size(); ++i) {
     const MeshLoadStats& s = cell.workpieces[i].mesh_stats;
-    if (!cell.workpieces[i].is_mesh()) continue;
+    if (!cell.workpieces[i].is_mesh() || cell.workpieces[i].saddle) continue;  // a saddle is built, not read
     std::cerr << "vts scan: workpieces[" << i << "]: mesh " << s.file << ": " << s.triangles_kept
               << " triangles, " << s.skipped_degenerate << " degenerate skipped, " << s.open_edges
               << " open edges\n";

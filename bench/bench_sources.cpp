@@ -13,6 +13,10 @@
 // BM_RasterUnmerged/fillet-1m: the raster with its planar merge off
 // (sensor/planar_merge.h), so every triangle is sliced, joined and
 // shadow-tested as given: the cost on a mesh with no flat regions.
+// saddle-1m (the pipe saddle, about a million triangles, curved: nothing
+// to merge but its three end discs): BM_Raster, BM_RasterUnmerged and
+// BM_Reference with the sensor on the bisector at 100 mm at 400 stations
+// round the seam (sensor/saddle.h) instead of a straight path.
 // BM_RasterSingle / BM_ReferenceSingle: one scan() per profile, no error model
 // (what the viewer's sensor thread does at a sensor's rate).
 // BM_RasterBatch / BM_ReferenceBatch: one source with its default threads (the
@@ -24,6 +28,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,6 +36,7 @@
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
 #include "sensor/reference_source.h"
+#include "sensor/saddle.h"
 #include "sensor/workpiece.h"
 
 namespace {
@@ -50,8 +56,20 @@ vts::Cell bench_cell(const std::string& name) {
   return *cell;
 }
 
+// The poses a benchmark cycles through: the cell's path, or round a saddle's seam.
+constexpr int kPathPoses = 400;
+std::vector<vts::Pose> bench_poses(const vts::Cell& cell) {
+  std::vector<vts::Pose> poses;
+  const vts::Workpiece& w = cell.workpieces.front();
+  for (int k = 0; k < kPathPoses; ++k)
+    poses.push_back(w.saddle ? vts::saddle_sensor_pose(*w.saddle, w.world_from_joint, 2.0 * std::numbers::pi * k / kPathPoses, 100.0)
+                             : cell.path.pose_at(k));
+  return poses;
+}
+
 void run_pipeline(benchmark::State& state, bool raster, const vts::Cell& cell, bool merge_planar) {
   const auto source = make_source(raster, cell, merge_planar);
+  const std::vector<vts::Pose> path = bench_poses(cell);
   std::vector<vts::Pose> poses(kBatch);
   std::vector<vts::Profile> ideal(kBatch);
   vts::Profile measured;
@@ -59,7 +77,7 @@ void run_pipeline(benchmark::State& state, bool raster, const vts::Cell& cell, b
   scan_state.seed = 7;
   std::int64_t i = 1000 * state.thread_index();
   for (auto _ : state) {
-    for (int k = 0; k < kBatch; ++k) poses[k] = cell.path.pose_at((i + k) % 400);
+    for (int k = 0; k < kBatch; ++k) poses[k] = path[(i + k) % kPathPoses];
     source->scan_batch(poses, ideal);
     for (int k = 0; k < kBatch; ++k) {
       ideal[k].index = i + k;
@@ -173,7 +191,7 @@ const int registered = [] {
   for (const char* cell : {"fillet", "static-B"})
     benchmark::RegisterBenchmark((std::string("BM_ErrorModel/") + cell).c_str(), BM_ErrorModel, std::string(cell))
         ->Unit(benchmark::kMicrosecond);
-  for (const char* cell : {"fillet", "corner", "lap", "butt", "vgroove", "static-B", "fillet-1m"}) {
+  for (const char* cell : {"fillet", "corner", "lap", "butt", "vgroove", "static-B", "fillet-1m", "saddle-1m"}) {
     for (int threads : {1, 2}) {
       for (bool raster : {true, false}) {
         const std::string name = std::string(raster ? "BM_Raster/" : "BM_Reference/") + cell;
@@ -184,9 +202,12 @@ const int registered = [] {
   }
   // The raster source with the planar merge off: every one of fillet-1m's
   // triangles sliced as given, as on a mesh without flat regions.
-  for (int threads : {1, 2})
-    benchmark::RegisterBenchmark("BM_RasterUnmerged/fillet-1m", BM_Pipeline, true, std::string("fillet-1m"), false)
-        ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
+  // saddle-1m: a curved mesh, where the merge finds nothing but the end discs.
+  for (const char* cell : {"fillet-1m", "saddle-1m"})
+    for (int threads : {1, 2})
+      benchmark::RegisterBenchmark((std::string("BM_RasterUnmerged/") + cell).c_str(), BM_Pipeline, true,
+                                   std::string(cell), false)
+          ->Unit(benchmark::kMicrosecond)->Threads(threads)->UseRealTime();
   for (bool raster : {true, false})
     benchmark::RegisterBenchmark(raster ? "BM_RasterSingle/static-B" : "BM_ReferenceSingle/static-B",
                                  BM_Single, raster, std::string("static-B"))

@@ -70,6 +70,7 @@ mkdir -p scan track mesh plot
 for c in $cells; do
   n=100
   [ "$c" = fillet-1m ] && n=30
+  [ "$c" = saddle-1m ] && n=30
   run "scan/$c" scan --cell "$c" --profiles "$n" --out "scan/$c.exr"
   run "scan/$c-ref" scan --cell "$c" --reference --profiles 40 --seed 3 --out "scan/$c-ref.exr"
   run "scan/$c-ideal" scan --cell "$c" --ideal --reference --profiles 40 --out "scan/$c-ideal.exr"

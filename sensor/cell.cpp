@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "sensor/presets.h"
+#include "sensor/saddle.h"
 
 namespace vts {
 namespace {
@@ -39,6 +40,11 @@ constexpr Builtin kBuiltins[] = {
      "the ugroove with 4 passes of 3.5 mm laid (crown 0.6), lps-1280-mid at 200 mm"},
     {"jgroove",
      "J-groove, wall 20 degrees from vertical, bottom radius 6 mm, 25 mm plates, 1 mm gap, lps-1280-mid at 150 mm"},
+    {"saddle",
+     "pipe saddle: a 100 mm branch set on a 200 mm main pipe (outer diameters), fillet round the curved seam, "
+     "4 mm mesh; sensor on the bisector at the flank, 100 mm"},
+    {"saddle-1m",
+     "the saddle meshed at 0.76 mm: 1006852 triangles, none coplanar with a neighbour but in the end discs (benchmarks)", true},
 };
 
 // The groove cells: a joint's defaults changed as listed, seen straight down
@@ -66,6 +72,14 @@ constexpr double kDenseLengthMm = 600.0;
 constexpr double kDenseCellMm = 0.78;
 
 constexpr double kDefaultStandoffMm = 100.0;
+
+// saddle and saddle-1m (docs/CELLS.md "The pipe saddle").
+constexpr double kSaddleCellMm = 4.0;
+constexpr double kSaddleDenseCellMm = 0.76;
+// The default path over a saddle: past the flank at t = 3 pi / 2 (y = -r),
+// where the seam runs along +x, centred on it.
+constexpr double kSaddleStepMm = 0.2;
+constexpr int kSaddleProfiles = 100;
 
 Cell single_workpiece_cell(std::string_view name, JointType type, const JointParams& params,
                            double standoff_mm) {
@@ -108,6 +122,14 @@ Vec3 default_view_direction(const Workpiece& w) {
 
 ScanPath default_path(const Workpiece& w, double standoff_mm, double start_mm) {
   ScanPath path;
+  if (w.saddle) {
+    path.start = saddle_sensor_pose(*w.saddle, w.world_from_joint, 1.5 * std::numbers::pi, standoff_mm);
+    path.direction = w.world_from_joint.linear() * Vec3::UnitX();
+    path.step_mm = kSaddleStepMm;
+    path.profiles = kSaddleProfiles;
+    path.start.translation() -= 0.5 * kSaddleStepMm * kSaddleProfiles * path.direction;
+    return path;
+  }
   const Vec3 dir = w.seam_direction();
   const Vec3 target = w.world_from_joint * Vec3(start_mm, w.truth.root_yz.x(), w.truth.root_yz.y());
   path.start = sensor_pose_looking_at(target, w.world_from_joint.linear() * default_view_direction(w),
@@ -155,6 +177,15 @@ std::optional<Cell> builtin_cell(std::string_view name) {
     p.crown_mm = g.crown_mm;
     Cell cell = single_workpiece_cell(name, g.type, p, g.standoff_mm);
     cell.scanner = *sensor_preset(g.preset);
+    return cell;
+  }
+  if (name == "saddle" || name == "saddle-1m") {
+    SaddleParams p;
+    p.cell_mm = name == "saddle" ? kSaddleCellMm : kSaddleDenseCellMm;
+    Cell cell;
+    cell.name = std::string(name);
+    cell.workpieces.push_back(saddle_workpiece(p));
+    cell.path = default_path(cell.workpieces.front(), kDefaultStandoffMm);
     return cell;
   }
   if (name == "fillet-1m") {

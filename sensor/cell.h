@@ -36,6 +36,9 @@ struct Cell {
 // start (x = start_mm along the seam) from the joint's natural viewing
 // direction (fillet: the open angle's bisector; corner, lap, butt, v-groove,
 // plate: straight down the joint's z) at standoff_mm, travelling along the seam.
+// A saddle (sensor/saddle.h): on the bisector at its flank t = 3 pi / 2,
+// travelling along the main pipe's axis (the seam's tangent there) in 100
+// steps of 0.2 mm centred on the flank; start_mm is not used.
 // A mesh workpiece has no seam: the path then looks at its joint frame's x
 // axis, which means nothing (scene files require path.start for it).
 ScanPath default_path(const Workpiece& workpiece, double standoff_mm, double start_mm = 20.0);
@@ -43,11 +46,11 @@ ScanPath default_path(const Workpiece& workpiece, double standoff_mm, double sta
 Vec3 default_view_direction(const Workpiece& workpiece);
 
 // Which built-in cells builtin_cell_names() lists. Small leaves out the
-// benchmark-sized ones (fillet-1m), for loops that build or scan every cell.
+// benchmark-sized ones (fillet-1m, saddle-1m), for loops that build or scan every cell.
 enum class CellSet { All, Small };
 
 // fillet, corner, lap, butt, vgroove, plate, static-A .. static-F, fillet-1m,
-// vgroove-thick, bevel, bevel-thick, ugroove, ugroove-fill, jgroove
+// vgroove-thick, bevel, bevel-thick, ugroove, ugroove-fill, jgroove, saddle, saddle-1m
 std::vector<std::string> builtin_cell_names(CellSet set = CellSet::All);
 inline constexpr std::string_view kDefaultCell = "static-B";
 std::optional<Cell> builtin_cell(std::string_view name);

@@ -14,6 +14,7 @@
 
 #include "sensor/mesh_file.h"
 #include "sensor/presets.h"
+#include "sensor/saddle.h"
 #include "sensor/yaml_io.h"
 
 namespace vts {
@@ -205,7 +206,23 @@ class Parser : public yaml_io::Reader {
     return w;
   }
 
+  // A pipe saddle: saddle (its parameters), pose.
+  Workpiece saddle_item(const Field& f) const {
+    const Map m(*this, f, {"saddle", "pose"});
+    std::vector<std::string> allowed;
+    for (const auto& k : kSaddleParamNumbers) allowed.emplace_back(k.key);
+    const Map sm(*this, m.require("saddle"), allowed);
+    SaddleParams p;
+    for (const auto& k : kSaddleParamNumbers)
+      if (auto x = sm.get(k.key)) p.*k.member = number(*x);
+    if (const std::string err = validate(p); !err.empty()) fail_validation(sm, err);
+    Pose world_from_saddle = Pose::Identity();
+    if (auto x = m.get("pose")) world_from_saddle = pose(*x);
+    return saddle_workpiece(p, world_from_saddle);
+  }
+
   Workpiece workpiece(const Field& f) const {
+    if (has_key(f.node, "saddle")) return saddle_item(f);
     if (has_key(f.node, "mesh")) return mesh_workpiece_item(f);
     std::vector<std::string> allowed = {"joint", "pose"};
     for (const auto& k : kJointParamNumbers) allowed.emplace_back(k.key);
@@ -232,11 +249,11 @@ class Parser : public yaml_io::Reader {
     static const char* const kNeedsStart =
         "missing (required when workpieces[0] is a mesh: a mesh has no seam to derive the default path from)";
     if (!f) {
-      if (first.is_mesh()) fail(first_mesh_line, "path.start", kNeedsStart);
+      if (first.is_mesh() && !first.saddle) fail(first_mesh_line, "path.start", kNeedsStart);
       return default_path(first, kDefaultStandoffMm);
     }
     const Map m(*this, *f, {"start", "standoff_mm", "direction", "step_mm", "speed_mm_s", "profiles"});
-    if (first.is_mesh() && !m.get("start")) fail(m.self().line(), "path.start", kNeedsStart);
+    if (first.is_mesh() && !first.saddle && !m.get("start")) fail(m.self().line(), "path.start", kNeedsStart);
 
     double standoff_mm = kDefaultStandoffMm;
     if (auto x = m.get("standoff_mm")) {
@@ -398,6 +415,13 @@ std::string scene_to_yaml(const Cell& cell) {
 
   out << "workpieces:\n";
   for (const Workpiece& w : cell.workpieces) {
+    if (w.saddle) {
+      out << "  - saddle:\n";
+      for (const auto& k : kSaddleParamNumbers) out << "      " << k.key << ": " << num((*w.saddle).*k.member) << "\n";
+      out << "    pose:\n";
+      write_pose(out, "      ", w.world_from_joint);
+      continue;
+    }
     if (w.is_mesh()) {
       out << "  - mesh: " << yaml_quoted(w.mesh_file) << "\n";
       const std::string unit = mesh_unit_name(w.mesh_unit_mm);

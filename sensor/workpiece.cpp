@@ -1,6 +1,7 @@
 #include "sensor/workpiece.h"
 
 #include "sensor/groove.h"
+#include "sensor/saddle.h"
 
 #include <algorithm>
 #include <cmath>
@@ -383,6 +384,16 @@ Workpiece mesh_workpiece(std::shared_ptr<const Mesh> mesh, const Pose& world_fro
   return w;
 }
 
+Workpiece saddle_workpiece(const SaddleParams& params, const Pose& world_from_saddle) {
+  Workpiece w;
+  w.type = JointType::Fillet;
+  w.params = default_params(w.type);
+  w.world_from_joint = world_from_saddle;
+  w.mesh_joint = true;
+  w.saddle = std::make_shared<const SaddleParams>(params);
+  return w;
+}
+
 std::int64_t plate_triangle_count(const Plate& plate, double segment_mm, double cell_mm) {
   const auto& poly = plate.section_yz;
   const double k = static_cast<double>(poly.size());
@@ -439,6 +450,11 @@ Mesh Workpiece::mesh() const {
     m.vertices.reserve(file_mesh->vertices.size());
     for (const auto& v : file_mesh->vertices)
       m.vertices.push_back((world_from_joint * v.cast<double>()).cast<float>());
+  }
+  if (saddle) {
+    Mesh s = saddle_mesh(*saddle, world_from_joint);
+    if (m.triangles.empty()) m = std::move(s);
+    else m.append(s);
   }
   for (const auto& p : plates) m.append(plate_mesh(p, params.segment_mm, world_from_joint, params.cell_mm));
   return m;

@@ -22,6 +22,8 @@
 
 namespace vts {
 
+struct SaddleParams;  // sensor/saddle.h
+
 enum class JointType { Fillet, Corner, Lap, Butt, VGroove, Plate, Bevel, UGroove, JGroove };
 
 // "fillet", "corner", "lap", "butt", "vgroove", "bevel", "ugroove",
@@ -136,8 +138,13 @@ struct Workpiece {
   double mesh_unit_mm = 1.0;  // mm per file unit
   bool mesh_joint = false;    // the scene named the joint the part contains: then it is `type`
   MeshLoadStats mesh_stats;   // what the loader found
+  // A pipe saddle (sensor/saddle.h, scene key `saddle`): its mesh is built
+  // from these on mesh(); it counts as a mesh workpiece with a fillet joint
+  // (no straight seam, no plates, truth all zero here: its truth is
+  // saddle_point / saddle_truth_in_plane). Null otherwise.
+  std::shared_ptr<const SaddleParams> saddle;
 
-  bool is_mesh() const { return file_mesh != nullptr; }
+  bool is_mesh() const { return file_mesh != nullptr || saddle != nullptr; }
   // The joint is known: always for the joints, for a mesh only when named.
   bool has_joint() const { return !is_mesh() || mesh_joint; }
 
@@ -170,6 +177,9 @@ Workpiece mesh_workpiece(std::shared_ptr<const Mesh> mesh_in_joint_frame,
                          const Pose& world_from_joint = Pose::Identity(),
                          std::optional<JointType> joint = std::nullopt,
                          const MeshLoadStats* stats = nullptr);
+
+// A pipe saddle workpiece (sensor/saddle.h). Precondition: validate(params) is empty.
+Workpiece saddle_workpiece(const SaddleParams& params, const Pose& world_from_saddle = Pose::Identity());
 
 // Plate extruded along x, triangulated with a cut every segment_mm. With
 // cell_mm > 0 the cuts are at most cell_mm apart too, and every face is a
