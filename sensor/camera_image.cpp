@@ -12,6 +12,7 @@
 #include "sensor/error_model.h"
 #include "sensor/ray_scene.h"
 #include "sensor/rays.h"
+#include "sensor/simd_clones.h"
 
 namespace vts {
 namespace {
@@ -301,17 +302,22 @@ std::vector<MirrorPlane> lit_planes(const std::vector<Eigen::Vector3d>& p, const
 }
 
 // The stripe's per-pixel loop, written to vectorize (float, as the GPU
-// shader it replaces computed it; no library calls). exp(x) for x <= 0:
-// 2^(x log2 e) split into a whole power (the exponent bits) and e^f,
-// |f| <= ln 2 / 2, by its Taylor series to f^6 (relative error below 1.2e-7).
+// shader it replaces computed it; no library calls, no branches, no
+// float-to-int conversion, which keeps GCC 12 from vectorizing it for AVX2).
+// exp(x) for x <= 0: 2^(x log2 e) split into a whole power n (the exponent
+// bits) and e^f, |f| <= ln 2 / 2, by its Taylor series to f^6 (relative
+// error below 1.2e-7).
 inline float exp_nonpositive(float x) {
   x = std::max(x, -87.0f);
   const float t = x * 1.44269504f;
-  const int n = static_cast<int>(t - 0.5f);  // t <= 0: rounds to nearest
-  const float f = (t - static_cast<float>(n)) * 0.693147181f;
+  // n = t rounded to the nearest whole number: adding 1.5 * 2^23 (|t| <
+  // 2^22) leaves it in the sum's low mantissa bits.
+  const float shifted = t + 12582912.0f;
+  const std::int32_t n = std::bit_cast<std::int32_t>(shifted) - 0x4B400000;
+  const float f = (t - (shifted - 12582912.0f)) * 0.693147181f;
   const float poly =
       1.0f + f * (1.0f + f * (0.5f + f * (1.0f / 6.0f + f * (1.0f / 24.0f + f * (1.0f / 120.0f + f * (1.0f / 720.0f))))));
-  return poly * std::bit_cast<float>(static_cast<std::int32_t>((n + 127) << 23));
+  return poly * std::bit_cast<float>((n + 127) << 23);
 }
 // Abramowitz and Stegun 7.1.26 (|error| < 1.5e-7 with an exact exp).
 inline float erf_as(float x) {
@@ -340,7 +346,7 @@ struct StripeColumn {
 // (docs/SENSOR_MODEL.md, "The camera image": Sheet, Surface, Pixel), each
 // pixel's footprint (the surface point's change along the image's columns
 // and rows) taken on the plane.
-void stripe_column(const StripeColumn& s, int first, int count, float* __restrict out) {
+VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, float* __restrict out) {
   const float dden_row = s.n[0] * s.dir_row[0] + s.n[1] * s.dir_row[1] + s.n[2] * s.dir_row[2];
   const float kPi = 3.14159265358979f;
   for (int i = 0; i < count; ++i) {

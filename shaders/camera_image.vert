@@ -24,8 +24,9 @@ uniform vec2 depth_ab;     // z_clip = a D + b
 // sheet's 1/e^2 half thickness w, two pixel footprints and three lens
 // blurs; the CPU stripe's bound, sensor/camera_image.cpp), as two clip
 // distances. The ambient pass does not enable them, but llvmpipe (Mesa
-// 22.3) draws it about twice as fast when the shader writes them: a full
-// 1280 x 1024 frame took ~20 ms without, ~2 ms with (measured, vts-bench).
+// 22.3) draws it far faster when the shader writes them: a full 1280 x 1024
+// frame cost ~20 ms more without them; with them, no more than not drawing
+// at all, within the noise (vts-bench BM_CameraImage/image_full, 2026-11-27).
 uniform vec3 slab;          // waist, focus, Rayleigh range (mm)
 uniform float slab_footprint;  // (2 + 3 psf) pitch / f: the margin per mm of range
 
