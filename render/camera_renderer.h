@@ -1,12 +1,11 @@
 #pragma once
 // The camera image's drawing (the physics is sensor/camera_image.h): renders
-// the part as the sensor's camera sees it lit by the laser sheet, the
-// radiance of every pixel of the region of interest in two channels (laser,
-// ambient), with OSMesa. Two draws per image: the laser's own depth map over
-// a thin frustum around the sheet (what the laser reaches), then the
-// camera's view with the sheet's irradiance, the surface's diffuse and
-// specular reflection and the vignetting evaluated per pixel
-// (shaders/camera_image.frag). Only plain data leaves: a RadianceImage.
+// the part as the sensor's camera sees it in the ambient light, the
+// radiance of every pixel of the region of interest, with OSMesa: one draw
+// per image (shaders/camera_image.vert, camera_ambient.frag). The laser
+// light (the stripe, its bounce and mirror images) is traced on the CPU
+// (trace_laser_paths) and added by form_image. Only plain data leaves: a
+// RadianceImage whose laser channel is zero.
 #include <memory>
 
 #include "sensor/camera_image.h"
@@ -28,8 +27,9 @@ class CameraRenderer {
   CameraRenderer(const CameraRenderer&) = delete;
   CameraRenderer& operator=(const CameraRenderer&) = delete;
 
-  // The radiance of the description's region of interest (image_roi) for
-  // the laser at world_from_sensor. No allocation once `out` has this size.
+  // The ambient radiance of the description's region of interest
+  // (image_roi) for the sensor at world_from_sensor; the laser channel is
+  // cleared. No allocation once `out` has this size.
   void render(const Pose& world_from_sensor, RadianceImage& out);
 
  private:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -11,6 +12,7 @@
 #include "sensor/error_model.h"
 #include "sensor/ray_scene.h"
 #include "sensor/rays.h"
+#include "sensor/simd_clones.h"
 
 namespace vts {
 namespace {
@@ -102,11 +104,49 @@ void correlated_normals(const Draws& draws, std::uint64_t stream, int n, double 
   }
 }
 
-// The share of a unit-area Gaussian (centre mu, std dev sigma) over the
-// pixel [r - 0.5, r + 0.5].
-double pixel_share(double r, double mu, double sigma) {
+// erf from a table of values and derivatives with cubic Hermite
+// interpolation between them: the error of such an interpolant is at most
+// h^4 / 384 max |f| over a step h (step 1/256, |erf| < 7: below
+// 5e-12), at a few nanoseconds a call (the bands' splats).
+template <int PerUnit, int Units>
+struct HermiteTable {
+  std::array<double, PerUnit * Units + 2> value{}, slope{};  // slope: derivative times the step
+  template <class F, class D>
+  HermiteTable(F f, D df) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      const double x = static_cast<double>(i) / PerUnit;
+      value[i] = f(x);
+      slope[i] = df(x) / PerUnit;
+    }
+  }
+  double operator()(double x) const {  // 0 <= x < Units
+    const double t = x * PerUnit;
+    const auto i = static_cast<std::size_t>(t);
+    const double u = t - static_cast<double>(i), u2 = u * u, u3 = u2 * u;
+    return (2.0 * u3 - 3.0 * u2 + 1.0) * value[i] + (u3 - 2.0 * u2 + u) * slope[i] + (3.0 * u2 - 2.0 * u3) * value[i + 1] +
+           (u3 - u2) * slope[i + 1];
+  }
+};
+
+double table_erf(double x) {
+  static const HermiteTable<256, 6> table([](double t) { return std::erf(t); },
+                                          [](double t) { return 2.0 / std::sqrt(std::numbers::pi) * std::exp(-t * t); });
+  const double a = std::abs(x);
+  const double y = a < 6.0 ? table(a) : 1.0;
+  return x < 0.0 ? -y : y;
+}
+
+// Adds area times the share of a unit-area Gaussian (centre mu, std dev
+// sigma) over each pixel [r - 0.5, r + 0.5] of rows lo .. hi to
+// out[r - lo]; neighbouring pixels share their edge's erf.
+void add_pixel_shares(int lo, int hi, double mu, double sigma, double area, float* out) {
   const double k = 1.0 / (std::numbers::sqrt2 * sigma);
-  return 0.5 * (std::erf((r + 0.5 - mu) * k) - std::erf((r - 0.5 - mu) * k));
+  double below = table_erf((lo - 0.5 - mu) * k);
+  for (int r = lo; r <= hi; ++r) {
+    const double above = table_erf((r + 0.5 - mu) * k);
+    out[r - lo] += static_cast<float>(area * (0.5 * (above - below)));
+    below = above;
+  }
 }
 
 // Per-thread scratch of form_image (no allocation per image once grown).
@@ -261,6 +301,320 @@ std::vector<MirrorPlane> lit_planes(const std::vector<Eigen::Vector3d>& p, const
   return planes;
 }
 
+// The stripe's per-pixel loop, written to vectorize (float, as the GPU
+// shader it replaces computed it; no library calls, no branches, no
+// float-to-int conversion, which keeps GCC 12 from vectorizing it for AVX2).
+// exp(x) for x <= 0: 2^(x log2 e) split into a whole power n (the exponent
+// bits) and e^f, |f| <= ln 2 / 2, by its Taylor series to f^6 (relative
+// error below 1.2e-7).
+inline float exp_nonpositive(float x) {
+  x = std::max(x, -87.0f);
+  const float t = x * 1.44269504f;
+  // n = t rounded to the nearest whole number: adding 1.5 * 2^23 (|t| <
+  // 2^22) leaves it in the sum's low mantissa bits.
+  const float shifted = t + 12582912.0f;
+  const std::int32_t n = std::bit_cast<std::int32_t>(shifted) - 0x4B400000;
+  const float f = (t - (shifted - 12582912.0f)) * 0.693147181f;
+  const float poly =
+      1.0f + f * (1.0f + f * (0.5f + f * (1.0f / 6.0f + f * (1.0f / 24.0f + f * (1.0f / 120.0f + f * (1.0f / 720.0f))))));
+  return poly * std::bit_cast<float>((n + 127) << 23);
+}
+// Abramowitz and Stegun 7.1.26 (|error| < 1.5e-7 with an exact exp).
+inline float erf_as(float x) {
+  const float a = std::abs(x);
+  const float t = 1.0f / (1.0f + 0.3275911f * a);
+  const float y = 1.0f - (((((1.061405429f * t - 1.453152027f) * t) + 1.421413741f) * t - 0.284496736f) * t +
+                          0.254829592f) * t * exp_nonpositive(-a * a);
+  return std::copysign(y, x);
+}
+
+// One image column's pixels seeing one plane, sensor frame, float.
+struct StripeColumn {
+  float centre[3];    // camera centre
+  float dir0[3];      // the pixel ray (scaled, sensor frame) at row 0
+  float dir_row[3];   // its change per row
+  float n[3];         // the plane's normal, facing the camera
+  float k;            // n . (q - centre) (negative)
+  float dir_col_x;    // the ray's x change per column
+  float den_col;      // n . (the ray's change per column)
+  float axis[3];      // the camera's axis
+  float power_over_fan, waist, focus, inv_rayleigh, footprint, tan_half_fan, psf2, diffuse, spec_share, inv_2lobe2,
+      spec_norm;
+};
+
+// The laser radiance of rows first .. first + count - 1 of the column
+// (docs/SENSOR_MODEL.md, "The camera image": Sheet, Surface, Pixel), each
+// pixel's footprint (the surface point's change along the image's columns
+// and rows) taken on the plane.
+VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, float* __restrict out) {
+  const float dden_row = s.n[0] * s.dir_row[0] + s.n[1] * s.dir_row[1] + s.n[2] * s.dir_row[2];
+  const float kPi = 3.14159265358979f;
+  for (int i = 0; i < count; ++i) {
+    const float row = static_cast<float>(first + i);
+    const float dx = s.dir0[0] + row * s.dir_row[0], dy = s.dir0[1] + row * s.dir_row[1],
+                dz = s.dir0[2] + row * s.dir_row[2];
+    const float den = s.n[0] * dx + s.n[1] * dy + s.n[2] * dz;
+    const float t = s.k / den;
+    const float px = s.centre[0] + t * dx, py = s.centre[1] + t * dy, pz = s.centre[2] + t * dz;
+    const float r = std::sqrt(px * px + py * py + pz * pz);
+    const float q = (r - s.focus) * s.inv_rayleigh;
+    const float w = s.waist * std::sqrt(1.0f + q * q);
+    const float cos_i = -(px * s.n[0] + py * s.n[1] + pz * s.n[2]) / r;
+    // x half a pixel either way along the row and the column: for
+    // x = c.x + k A / B with A, B affine, x(+1/2) - x(-1/2) = k (a B - A b) / (B^2 - b^2 / 4).
+    const float bc = s.den_col, br = dden_row;
+    const float dx_col = s.k * (s.dir_col_x * den - dx * bc) / (den * den - 0.25f * bc * bc);
+    const float dx_row = s.k * (s.dir_row[0] * den - dx * br) / (den * den - 0.25f * br * br);
+    // (& rather than &&: no branch in the loop.)
+    const bool ok = (t > 0.0f) & (std::abs(px) <= 3.0f * w + r * s.footprint) & (pz > 0.0f) &
+                    (std::abs(py) <= s.tan_half_fan * pz) & (cos_i > 0.0f) & (den * den > 0.25f * bc * bc) &
+                    (den * den > 0.25f * br * br);
+    const float h = 0.5f * (std::abs(dx_col) + std::abs(dx_row));  // the pixel's half footprint across the sheet
+    const float sigma = std::sqrt(0.25f * w * w + s.psf2 * (dx_col * dx_col + dx_row * dx_row));
+    const float kk = 0.70710678f / sigma;
+    const float gauss = 0.39894228f / sigma * exp_nonpositive(-0.5f * px * px / (sigma * sigma));
+    const float box = 0.25f * (erf_as((px + h) * kk) - erf_as((px - h) * kk)) / h;
+    const float g = h * kk > 1e-3f ? box : gauss;
+    const float e = s.power_over_fan / r * g * cos_i;
+    // Towards the camera, and the mirror direction of the laser's.
+    const float inv_len = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);
+    const float vx = -dx * inv_len, vy = -dy * inv_len, vz = -dz * inv_len;
+    const float cos_v = s.n[0] * vx + s.n[1] * vy + s.n[2] * vz;
+    const float mx = px / r + 2.0f * cos_i * s.n[0], my = py / r + 2.0f * cos_i * s.n[1],
+                mz = pz / r + 2.0f * cos_i * s.n[2];
+    const float a2 = 2.0f * (1.0f - (mx * vx + my * vy + mz * vz));
+    const float spec = s.spec_share * exp_nonpositive(-std::max(a2, 0.0f) * s.inv_2lobe2) /
+                       (s.spec_norm * std::max(cos_v, 0.05f));
+    const float cos_off0 = -(s.axis[0] * vx + s.axis[1] * vy + s.axis[2] * vz);
+    const float cos_off = std::max(cos_off0, 0.0f);
+    const float value = e * (s.diffuse / kPi + spec) * (cos_off * cos_off) * (cos_off * cos_off);
+    out[i] = ok ? value : 0.0f;
+  }
+}
+
+// The primary ray of one image column: its direction and nearest hit (world).
+struct PrimaryHit {
+  Eigen::Vector3d dir = Eigen::Vector3d::Zero(), p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+  double t = 0.0;
+  bool hit = false;
+};
+
+// How far from the laser the stripe is drawn (the renderer's far plane).
+double stripe_far_mm(const ScannerDesc& d) { return 2.0 * d.max_hit_mm + 2.0 * d.baseline_mm + 10.0; }
+
+// The sheet's radiance toward the camera at a surface point, per pixel, as
+// docs/SENSOR_MODEL.md "The camera image" gives it (Sheet, Surface, Pixel):
+// sensor frame, a pixel's derivatives of the surface point along the
+// image's columns and rows given.
+struct StripeModel {
+  CameraGeometry cam;
+  Eigen::Matrix3d sensor_from_camera;
+  Eigen::Vector3d axis;
+  double power_w, fan_rad, tan_half_fan, waist, focus, rayleigh, rho_d, rho_s, lobe, psf, footprint;
+
+  explicit StripeModel(const ScannerDesc& d) : cam(camera_geometry(d)) {
+    sensor_from_camera = cam.camera_from_sensor.transpose();
+    axis = cam.camera_from_sensor.row(2).transpose();
+    power_w = d.laser_power_mw * 1e-3;
+    fan_rad = d.fan_deg * kDeg;
+    tan_half_fan = std::tan(0.5 * fan_rad);
+    waist = d.sheet_waist_mm;
+    focus = d.sheet_focus_mm;
+    rayleigh = sheet_rayleigh_mm(d);
+    rho_d = d.reflectivity;
+    rho_s = d.specular_reflectance;
+    lobe = std::max(1e-3, d.specular_lobe_deg * kDeg);
+    psf = d.psf_sigma_px;
+    footprint = (2.0 + 3.0 * d.psf_sigma_px) * d.pixel_pitch_um * 1e-3 / d.focal_length_mm;
+    init_rays();
+  }
+  // The ray of pixel (column, row) from the camera centre, the projection
+  // inverted, scaled by f + u sin(tau): affine in (column, row),
+  // g0 + column gc + row gr (sensor frame).
+  Eigen::Vector3d g0, gc, gr;
+  void init_rays() {
+    g0 = sensor_from_camera * Eigen::Vector3d(-cam.cy * cam.cos_tilt, -cam.cx, cam.f_px - cam.cy * cam.sin_tilt);
+    gc = sensor_from_camera.col(1);
+    gr = sensor_from_camera * Eigen::Vector3d(cam.cos_tilt, 0.0, cam.sin_tilt);
+  }
+  Eigen::Vector3d pixel_dir(double col, double row) const { return g0 + col * gc + row * gr; }
+  // A plane (sensor frame) as the pixels see it: point c + (k / n.d) d on
+  // the ray d of a pixel.
+  struct Plane {
+    Eigen::Vector3d n;  // facing the camera
+    double k = 0.0;     // n . (q - centre)
+  };
+  Plane plane(const Eigen::Vector3d& q, const Eigen::Vector3d& n) const {
+    const double k = n.dot(q - cam.centre);
+    return k < 0.0 ? Plane{n, k} : Plane{-n, -k};
+  }
+  // Where the ray of pixel (col, row) meets the plane.
+  bool on_plane(double col, double row, const Plane& pl, Eigen::Vector3d& p) const {
+    const Eigen::Vector3d dir = pixel_dir(col, row);
+    const double s = pl.k / pl.n.dot(dir);
+    if (!(s > 0.0)) return false;
+    p = cam.centre + s * dir;
+    return true;
+  }
+  double sheet_w(double r) const {
+    const double q = (r - focus) / rayleigh;
+    return waist * std::sqrt(1.0 + q * q);
+  }
+  // The slab around the sheet where it can light anything: three half
+  // thicknesses, two pixel footprints and three lens blurs.
+  double slab(double r) const { return 3.0 * sheet_w(r) + r * footprint; }
+  // The laser radiance of rows first .. first + count - 1 of column col
+  // seeing the plane (lit by the laser, seen by the camera: the caller's to
+  // know).
+  void column(double col, int first, int count, const Plane& pl, float* out) const {
+    StripeColumn sc{};
+    const Eigen::Vector3d d0 = g0 + col * gc;
+    for (int a = 0; a < 3; ++a) {
+      sc.centre[a] = static_cast<float>(cam.centre[a]);
+      sc.dir0[a] = static_cast<float>(d0[a]);
+      sc.dir_row[a] = static_cast<float>(gr[a]);
+      sc.n[a] = static_cast<float>(pl.n[a]);
+      sc.axis[a] = static_cast<float>(axis[a]);
+    }
+    sc.k = static_cast<float>(pl.k);
+    sc.dir_col_x = static_cast<float>(gc.x());
+    sc.den_col = static_cast<float>(pl.n.dot(gc));
+    sc.power_over_fan = static_cast<float>(power_w / fan_rad);
+    sc.waist = static_cast<float>(waist);
+    sc.focus = static_cast<float>(focus);
+    sc.inv_rayleigh = static_cast<float>(1.0 / rayleigh);
+    sc.footprint = static_cast<float>(footprint);
+    sc.tan_half_fan = static_cast<float>(tan_half_fan);
+    sc.psf2 = static_cast<float>(psf * psf);
+    sc.diffuse = static_cast<float>(rho_d);
+    sc.spec_share = static_cast<float>(rho_s);
+    sc.inv_2lobe2 = static_cast<float>(0.5 / (lobe * lobe));
+    sc.spec_norm = static_cast<float>(2.0 * std::numbers::pi * lobe * lobe);
+    stripe_column(sc, first, count, out);
+  }
+};
+
+// The primary stripe per image column (docs/SENSOR_MODEL.md "The camera
+// image", "The stripe"): the pixels of column c near the sheet see the plane
+// of the column's primary hit; where that plane holds over the band (the
+// neighbouring columns hit the same plane, the laser reaches and the camera
+// sees both ends of the band and its centre), every pixel is evaluated on
+// it. Elsewhere (edges, shadows) each pixel's ray is cast (Embree): the
+// surface it sees, lit where the laser reaches that point.
+void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScene& scene, const Pose& world_from_sensor,
+                  const std::vector<PrimaryHit>& primary, LaserPaths& out) {
+  const int w = cam.width;
+  const auto [roi_first, roi_rows] = image_roi(d);
+  const int roi_last = roi_first + roi_rows - 1;
+  out.stripe_offset.assign(static_cast<std::size_t>(w) + 1, 0);
+  out.stripe_first_row.assign(static_cast<std::size_t>(w), 0);
+  out.stripe_radiance.clear();
+  const StripeModel model(d);
+  const Pose sensor_from_world = world_from_sensor.inverse();
+  const Eigen::Matrix3d rot = world_from_sensor.linear();
+  const Eigen::Matrix3d rot_t = rot.transpose();
+  const Eigen::Vector3d origin = world_from_sensor.translation();
+  const Eigen::Vector3d cam_world = world_from_sensor * cam.centre;
+  const double far = stripe_far_mm(d);
+  const double cos_same = std::cos(1.0 * kDeg);
+  // Whether the laser reaches p (world; r its range, cos_i its incidence).
+  const auto reached = [&](const Eigen::Vector3d& p, double r, double cos_i) {
+    const double bias = 0.02 + 1e-4 * r / std::max(cos_i, 0.1);
+    if (r <= bias) return true;
+    return !scene.occluded(origin.cast<float>(), ((p - origin) / r).cast<float>(), 0.0f, static_cast<float>(r - bias));
+  };
+  // Whether the camera sees p (world) on a surface of normal n.
+  const auto seen = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+    const Eigen::Vector3d to_cam = cam_world - p;
+    const double dist = to_cam.norm();
+    const Eigen::Vector3d nn = n.dot(to_cam) < 0.0 ? Eigen::Vector3d(-n) : n;
+    return !scene.occluded((p + 1e-3 * nn).cast<float>(), (to_cam / dist).cast<float>(),
+                           static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist));
+  };
+  const auto same_plane = [&](const PrimaryHit& a, const PrimaryHit& b) {
+    return a.hit && b.hit && a.n.dot(b.n) >= cos_same && std::abs(a.n.dot(b.p - a.p)) <= 0.05;
+  };
+  std::vector<float> values;
+  for (int c = 0; c < w; ++c) {
+    out.stripe_offset[static_cast<std::size_t>(c) + 1] = out.stripe_offset[static_cast<std::size_t>(c)];
+    const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
+    if (!ph.hit) continue;
+    const Eigen::Vector3d q = sensor_from_world * ph.p;  // sensor frame
+    const Eigen::Vector3d n = rot_t * ph.n;
+    Eigen::Vector2d cr;
+    if (!project(cam, q, cr)) continue;
+    const StripeModel::Plane pl = model.plane(q, n);
+    // The rows of the band on the plane: where |x| <= slab, from the row of
+    // the hit outwards (x is monotonic along a column on a plane).
+    const double r0 = std::clamp(std::round(cr.y()), static_cast<double>(roi_first), static_cast<double>(roi_last));
+    Eigen::Vector3d pa, pb;
+    if (!model.on_plane(c, r0, pl, pa) || !model.on_plane(c, r0 + 1.0, pl, pb)) continue;
+    const double slope = std::abs(pb.x() - pa.x());  // mm of x per row
+    const double reach = 1.5 * model.slab(q.norm()) + std::abs(pa.x());
+    const double span = slope > 0.0 ? std::min(reach / slope + 2.0, static_cast<double>(cam.height)) : cam.height;
+    int lo = static_cast<int>(std::max(static_cast<double>(roi_first), std::floor(r0 - span)));
+    int hi = static_cast<int>(std::min(static_cast<double>(roi_last), std::ceil(r0 + span)));
+    if (lo > hi) continue;
+    const bool interior = c > 0 && c + 1 < w && same_plane(ph, primary[static_cast<std::size_t>(c) - 1]) &&
+                          same_plane(ph, primary[static_cast<std::size_t>(c) + 1]);
+    values.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+    int first_lit = hi + 1, last_lit = lo - 1;
+    model.column(c, lo, hi - lo + 1, pl, values.data());
+    for (int row = lo; row <= hi; ++row)
+      if (values[static_cast<std::size_t>(row - lo)] > 0.0f) {
+        first_lit = std::min(first_lit, row);
+        last_lit = row;
+      }
+    bool clear = interior;
+    if (clear && first_lit <= last_lit) {
+      // Both ends of the band and its centre: reached by the laser, seen by
+      // the camera.
+      Eigen::Vector3d e0, e1;
+      clear = model.on_plane(c, first_lit, pl, e0) && model.on_plane(c, last_lit, pl, e1);
+      const double cos_i = std::abs(ph.dir.dot(ph.n));
+      for (const Eigen::Vector3d& e : {e0, e1}) {
+        if (!clear) break;
+        const Eigen::Vector3d ew = world_from_sensor * e;
+        clear = reached(ew, e.norm(), cos_i) && seen(ew, ph.n);
+      }
+      clear = clear && seen(ph.p, ph.n);
+    }
+    if (!clear) {
+      // Pixel by pixel: what each pixel's ray sees, lit where the laser
+      // reaches it; a few rows more, for a plane that ends inside the band.
+      lo = std::max(roi_first, lo - 4);
+      hi = std::min(roi_last, hi + 4);
+      values.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+      first_lit = hi + 1;
+      last_lit = lo - 1;
+      for (int row = lo; row <= hi; ++row) {
+        const Eigen::Vector3d dir = (rot * model.pixel_dir(c, row)).normalized();
+        RayScene::Hit hit;
+        if (!scene.intersect(cam_world.cast<float>(), dir.cast<float>(), 0.0f, static_cast<float>(far), hit)) continue;
+        const Eigen::Vector3d pw = cam_world + static_cast<double>(hit.t) * dir;
+        const Eigen::Vector3d nw = hit.normal.cast<double>();
+        const Eigen::Vector3d ps = sensor_from_world * pw, ns = rot_t * nw;
+        const double r = ps.norm();
+        if (!(r > 0.0) || std::abs(ps.x()) > model.slab(r)) continue;
+        const double cos_i = std::abs((pw - origin).dot(nw)) / r;
+        if (!reached(pw, r, cos_i)) continue;
+        float& v = values[static_cast<std::size_t>(row - lo)];
+        model.column(c, row, 1, model.plane(ps, ns), &v);
+        if (v > 0.0f) {
+          first_lit = std::min(first_lit, row);
+          last_lit = row;
+        }
+      }
+    }
+
+    if (first_lit > last_lit) continue;
+    out.stripe_first_row[static_cast<std::size_t>(c)] = first_lit;
+    out.stripe_radiance.insert(out.stripe_radiance.end(), values.begin() + (first_lit - lo),
+                               values.begin() + (last_lit - lo + 1));
+    out.stripe_offset[static_cast<std::size_t>(c) + 1] = static_cast<int>(out.stripe_radiance.size());
+  }
+}
+
 }  // namespace
 
 void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& world_from_sensor,
@@ -315,25 +669,38 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   std::vector<Eigen::Vector3d> hit_p(static_cast<std::size_t>(w)), hit_n(static_cast<std::size_t>(w));
   std::vector<char> lit(static_cast<std::size_t>(w), 0);
   std::vector<double> lit_irradiance(static_cast<std::size_t>(w), 0.0), lit_sigma(static_cast<std::size_t>(w), 0.0);
+  // The primary rays, one per image column: the laser-plane direction that
+  // images at column c at mid range (exact for every range without tilt),
+  // cast as far as the stripe can be drawn.
+  std::vector<PrimaryHit> primary(static_cast<std::size_t>(w));
   for (int c = 0; c < w; ++c) {
-    Sample& s = samples[static_cast<std::size_t>(c)];
-    s = {0, 0, false};
-    // The laser-plane direction that images at column c at mid range
-    // (exact for every range without tilt).
+    PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
     Eigen::Vector2d yz;
     const double row_mid = cam.cy;
     double tan_a = 0.0;
     if (triangulate(cam, c, row_mid, yz) && yz.y() > 0.0) tan_a = yz.x() / yz.y();
     else tan_a = (c - cam.cx) * cam.camera_from_sensor(2, 2) / cam.f_px;
     if (std::abs(tan_a) > tan_half_fan) continue;
-    const Eigen::Vector3d dir_s = Eigen::Vector3d(0.0, tan_a, 1.0).normalized();
-    const Eigen::Vector3d dir = rot * dir_s;
+    ph.dir = rot * Eigen::Vector3d(0.0, tan_a, 1.0).normalized();
     RayScene::Hit hit;
-    if (!scene.intersect(origin.cast<float>(), dir.cast<float>(), 0.0f,
-                         static_cast<float>(d.max_hit_mm), hit))
+    if (!scene.intersect(origin.cast<float>(), ph.dir.cast<float>(), 0.0f, static_cast<float>(stripe_far_mm(d)), hit))
       continue;
-    const Eigen::Vector3d p = origin + static_cast<double>(hit.t) * dir;
-    const Eigen::Vector3d n = hit.normal.cast<double>();
+    ph.hit = true;
+    ph.t = hit.t;
+    ph.p = origin + static_cast<double>(hit.t) * ph.dir;
+    ph.n = hit.normal.cast<double>();
+  }
+  trace_stripe(d, cam, scene, world_from_sensor, primary, out);
+
+  for (int c = 0; c < w; ++c) {
+    Sample& s = samples[static_cast<std::size_t>(c)];
+    s = {0, 0, false};
+    const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
+    if (!ph.hit || ph.t > d.max_hit_mm) continue;
+    const Eigen::Vector3d& dir = ph.dir;
+    const RayScene::Hit hit{static_cast<float>(ph.t), ph.n.cast<float>()};
+    const Eigen::Vector3d& p = ph.p;
+    const Eigen::Vector3d& n = ph.n;
     const Eigen::Vector3d p_s = sensor_from_world * p;
     if (p_s.z() < d.min_range_mm || p_s.z() > d.max_range_mm) continue;
     hit_p[static_cast<std::size_t>(c)] = p;
@@ -469,6 +836,19 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   }
 }
 
+void add_stripe(const LaserPaths& paths, RadianceImage& rad) {
+  const int w = std::min(rad.width, static_cast<int>(paths.stripe_first_row.size()));
+  if (paths.stripe_offset.size() < static_cast<std::size_t>(w) + 1) return;
+  for (int c = 0; c < w; ++c) {
+    const int first = paths.stripe_first_row[static_cast<std::size_t>(c)];
+    for (int k = paths.stripe_offset[static_cast<std::size_t>(c)]; k < paths.stripe_offset[static_cast<std::size_t>(c) + 1]; ++k) {
+      const int row = first + (k - paths.stripe_offset[static_cast<std::size_t>(c)]) - rad.first_row;
+      if (row < 0 || row >= rad.rows) continue;
+      rad.laser[static_cast<std::size_t>(row) * rad.width + c] += paths.stripe_radiance[static_cast<std::size_t>(k)];
+    }
+  }
+}
+
 void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& paths, std::uint64_t seed,
                 std::int64_t index, CameraImage& out) {
   const int w = rad.width, rows = rad.rows, r0 = rad.first_row;
@@ -482,6 +862,9 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   out.bounce_row = paths.bounce_row;
   out.mirror_row = paths.mirror_row;
   const auto at = [w](int col, int k) { return static_cast<std::size_t>(k) * w + col; };
+
+  // 0. The stripe itself (trace_laser_paths).
+  add_stripe(paths, rad);
 
   // 1. The bounce and the mirror image: a Gaussian band per column,
   // integrated over each pixel. The lens blur widens a band as it widens
@@ -497,7 +880,12 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
       const double area = radiance_of[static_cast<std::size_t>(c)] * band * std::sqrt(2.0 * std::numbers::pi);
       const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
       const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
-      for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += static_cast<float>(area * pixel_share(r, row, sigma));
+      if (lo > hi) continue;
+      // Column c's pixels are a row apart: gather, add, scatter.
+      thread_local std::vector<float> shares;
+      shares.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+      add_pixel_shares(lo, hi, row, sigma, area, shares.data());
+      for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += shares[static_cast<std::size_t>(r - lo)];
     }
   };
   splat(paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance);

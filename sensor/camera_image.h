@@ -1,11 +1,11 @@
 #pragma once
 // The camera image: the physics of the third mode (`vts scan --camera-image`).
-// render/camera_renderer.h draws the part as the sensor's camera sees it lit
-// by the laser sheet (radiance per pixel, W/(mm^2 sr)); this file holds
+// render/camera_renderer.h draws the part as the sensor's camera sees it in
+// the ambient light (radiance per pixel, W/(mm^2 sr)); this file holds
 // everything else, free of GL: the camera's projection with an optional
 // Scheimpflug tilt and its inverse onto the laser plane, the sheet's
-// thickness along its range, one bounce of laser light off a specular
-// surface (cast with Embree), the lens blur, speckle, the sensor's
+// thickness along its range, the stripe itself and one bounce of laser
+// light off a specular surface (cast with Embree), the lens blur, speckle, the sensor's
 // electrons, shot and read noise, saturation and quantization, the per-column
 // truth (where the ideal point's image falls), and the profile triangulated
 // from the peaks the detector finds (stripe/peaks.h). docs/SENSOR_MODEL.md,
@@ -68,9 +68,11 @@ double electrons_per_radiance(const ScannerDesc& desc);
 // DN per electron: gain (2^bits - 1) / full_well_e.
 double dn_per_electron(const ScannerDesc& desc);
 
-// The rendered radiance of the region of interest, rows first_row ..
+// The radiance of the region of interest, rows first_row ..
 // first_row + rows - 1, row-major (row k of the buffers is image row
-// first_row + k): laser light (coherent: speckle applies) and ambient light.
+// first_row + k): laser light (coherent: speckle applies; form_image adds
+// it from the LaserPaths, the renderer leaves it at zero) and ambient light
+// (the renderer's).
 struct RadianceImage {
   int width = 0, rows = 0, first_row = 0;
   std::vector<float> laser, ambient;  // W/(mm^2 sr), width * rows each
@@ -110,10 +112,18 @@ struct LaserPaths {
   // The camera-side mirror: the lit line of one surface seen mirrored in
   // another lit plane (the brightest where several are).
   std::vector<float> mirror_row, mirror_sigma, mirror_radiance;
+  // The stripe itself, the laser light on the surfaces it reaches as the
+  // camera sees them (W/(mm^2 sr)), in the region of interest: column c has
+  // rows stripe_first_row[c] .. (full-image rows), its values
+  // stripe_radiance[stripe_offset[c] .. stripe_offset[c + 1]).
+  std::vector<int> stripe_offset, stripe_first_row;
+  std::vector<float> stripe_radiance;
 };
 // Casts one ray per image column through the laser plane (the column's
 // direction at the depth of field's middle), finds where it is seen in the
-// image and, when the surface has a specular share, where its mirror
+// image, the stripe's radiance in that column's pixels (the sheet on the
+// surface the ray hits; pixel by pixel where the surface or its light
+// changes across the band) and, when the surface has a specular share, where its mirror
 // reflection lands and how bright it is there, and where the camera sees
 // the lit line mirrored in one of the planes it lights (docs/SENSOR_MODEL.md,
 // "One bounce" and "The stripe in a mirror"). Mirrors are the planes of runs
@@ -121,8 +131,13 @@ struct LaserPaths {
 void trace_laser_paths(const ScannerDesc& desc, const RayScene& scene, const Pose& world_from_sensor,
                        LaserPaths& out);
 
-// Turns rendered radiance into the recorded image: adds the bounce (blurred
-// by the lens; the renderer blurs the stripe itself), applies speckle (an amplitude and a
+// Adds the stripe of `paths` (trace_laser_paths) to the laser radiance of
+// the region of interest.
+void add_stripe(const LaserPaths& paths, RadianceImage& radiance);
+
+// Turns rendered radiance into the recorded image: adds the stripe
+// (add_stripe) and the bounce and the mirror image (blurred by the lens; the
+// stripe's blur is in its profile), applies speckle (an amplitude and a
 // shift of the stripe per image column, correlated over the speckle grain),
 // converts to electrons, adds shot and read noise, saturates and quantizes.
 // Draws are keyed by (seed, index): the same profile gives the same image.

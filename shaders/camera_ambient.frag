@@ -1,10 +1,10 @@
 #version 450 core
-// Camera image, first pass (render/camera_renderer.cpp): every surface the
-// camera sees, its depth, and the ambient light it reflects (green channel),
-// diffusely: E_amb rho_d / pi, times cos^4 of the angle off the camera's
-// axis. The laser pass (camera_image.frag) adds the laser light on top.
+// Camera image (render/camera_renderer.cpp): every surface the camera sees,
+// nearest first, and the ambient light it reflects, diffusely: E_amb rho_d /
+// pi, times cos^4 of the angle off the camera's axis. The laser light is
+// traced on the CPU (sensor/camera_image.h, trace_laser_paths).
 in vec3 p_sensor;
-layout(location = 0) out vec2 radiance;
+layout(location = 0) out vec2 radiance;  // (unused, ambient)
 uniform vec3 cam_centre;
 uniform vec3 cam_axis;
 uniform float diffuse;

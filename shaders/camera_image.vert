@@ -20,11 +20,13 @@ uniform vec2 target;       // width, rows
 uniform float first_row;
 uniform vec2 depth_ab;     // z_clip = a D + b
 
-// The laser pass draws only the slab around the sheet where it can light
-// anything: |x| <= 3 w(r) + (2 + 3 psf) r pitch / f (the sheet's 1/e^2 half
-// thickness w, where it has fallen to exp(-18), sensor/camera_image.h; two
-// pixel footprints and three lens blurs), as two clip distances. w(r) is convex in r, so its linear interpolation across
-// a triangle only widens the slab.
+// The slab around the sheet, |x| <= 3 w(r) + (2 + 3 psf) r pitch / f (the
+// sheet's 1/e^2 half thickness w, two pixel footprints and three lens
+// blurs; the CPU stripe's bound, sensor/camera_image.cpp), as two clip
+// distances. The ambient pass does not enable them, but llvmpipe (Mesa
+// 22.3) draws it far faster when the shader writes them: a full 1280 x 1024
+// frame cost ~20 ms more without them; with them, no more than not drawing
+// at all, within the noise (vts-bench BM_CameraImage/image_full, 2026-11-27).
 uniform vec3 slab;          // waist, focus, Rayleigh range (mm)
 uniform float slab_footprint;  // (2 + 3 psf) pitch / f: the margin per mm of range
 

@@ -166,6 +166,11 @@ TEST_CASE("the stripe carries the sheet's power: integrated radiance across it i
   vts::CameraRenderer renderer(d, mesh);
   vts::RadianceImage rad;
   renderer.render(vts::Pose::Identity(), rad);
+  // The stripe is traced on the CPU and added to the laser channel.
+  vts::RayScene scene(mesh, "test");
+  vts::LaserPaths paths;
+  vts::trace_laser_paths(d, scene, vts::Pose::Identity(), paths);
+  vts::add_stripe(paths, rad);
   const vts::CameraGeometry cam = vts::camera_geometry(d);
   for (double t : {-0.2, 0.0, 0.25}) {
     const Eigen::Vector3d p(0.0, t * z, z);
