@@ -3,27 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <utility>
 #include <vector>
+
+#include "sensor/field_error.h"
 
 namespace vts::groove {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-
-std::string bad(std::string_view field, double value, const std::string& why) {
-  std::ostringstream s;
-  s << field << " = " << value << ": " << why;
-  return s.str();
-}
-
-std::string mm(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -270,48 +259,54 @@ std::string validate(JointType type, const JointParams& p) {
   switch (type) {
     case JointType::Bevel:
       if (p.angle_deg <= 0.0 || p.angle_deg >= 90.0)
-        return bad("angle_deg", p.angle_deg, "bevel angle (side b's wall from vertical) must be > 0 and < 90 degrees");
+        return field_error("angle_deg", p.angle_deg,
+                           "bevel angle (side b's wall from vertical) must be > 0 and < 90 degrees");
       break;
     case JointType::UGroove:
       if (p.angle_deg < 0.0 || p.angle_deg >= 150.0)
-        return bad("angle_deg", p.angle_deg, "U-groove included angle must be >= 0 and < 150 degrees");
+        return field_error("angle_deg", p.angle_deg, "U-groove included angle must be >= 0 and < 150 degrees");
       break;
     case JointType::JGroove:
       if (p.angle_deg < 0.0 || p.angle_deg >= 90.0)
-        return bad("angle_deg", p.angle_deg, "J-groove wall angle (from vertical) must be >= 0 and < 90 degrees");
+        return field_error("angle_deg", p.angle_deg,
+                           "J-groove wall angle (from vertical) must be >= 0 and < 90 degrees");
       break;
     default: break;
   }
   if (type != JointType::VGroove) {  // the v-groove checks these itself, as before
     if (p.root_face_mm < 0.0 || p.root_face_mm >= p.thickness_mm)
-      return bad("root_face_mm", p.root_face_mm, "must be >= 0 and smaller than thickness_mm");
+      return field_error("root_face_mm", p.root_face_mm, "must be >= 0 and smaller than thickness_mm");
   }
   const Shape s = shape_of(type, p);
   for (const Wall* wall : {&s.a, &s.b}) {
     if (wall->curved() && wall->tangent().y() >= D)
-      return bad("radius_mm", p.radius_mm,
-                 "the bottom arc does not fit: it meets the straight wall " + mm(wall->tangent().y()) +
-                     " mm above the root, not below the plate top (thickness_mm - root_face_mm = " + mm(D) +
-                     " mm)");
+      return field_error(
+          "radius_mm", p.radius_mm,
+          "the bottom arc does not fit: it meets the straight wall " + message_number(wall->tangent().y()) +
+              " mm above the root, not below the plate top (thickness_mm - root_face_mm = " + message_number(D) +
+              " mm)");
     if (type != JointType::VGroove && p.width_mm <= wall->top().x())
-      return bad("width_mm", p.width_mm,
-                 "must exceed the groove wall's width across the seam (" + mm(wall->top().x()) + " mm)");
+      return field_error(
+          "width_mm", p.width_mm,
+          "must exceed the groove wall's width across the seam (" + message_number(wall->top().x()) + " mm)");
   }
   if (p.passes == 0) return {};
   const double top = std::min(D, D + s.m);
   if (s.level + std::max(s.crown, 0.0) >= top)
-    return bad("passes", p.passes,
-               "the fill (passes x layer_mm = " + mm(s.level) + " mm, crown_mm " + mm(s.crown) +
-                   ") must stay below the plate tops (" + mm(top) + " mm above the root)");
+    return field_error("passes", p.passes,
+                       "the fill (passes x layer_mm = " + message_number(s.level) + " mm, crown_mm " +
+                           message_number(s.crown) + ") must stay below the plate tops (" + message_number(top) +
+                           " mm above the root)");
   if (s.level <= std::max(s.m, 0.0))
-    return bad("passes", p.passes,
-               "the fill level (passes x layer_mm = " + mm(s.level) +
-                   " mm) must be above side b's root edge (mismatch_mm = " + mm(s.m) + ")");
+    return field_error("passes", p.passes,
+                       "the fill level (passes x layer_mm = " + message_number(s.level) +
+                           " mm) must be above side b's root edge (mismatch_mm = " + message_number(s.m) + ")");
   const Vec2 toe_a = s.on_a({s.a.u_at(s.level), s.level});
   const Vec2 toe_b = s.on_b({s.b.u_at(s.level - s.m), s.level - s.m});
   const double half = 0.5 * (toe_b.x() - toe_a.x());
   if (std::abs(s.crown) >= half)
-    return bad("crown_mm", s.crown, "must be smaller in size than half the cap's width (" + mm(half) + " mm)");
+    return field_error("crown_mm", s.crown,
+                       "must be smaller in size than half the cap's width (" + message_number(half) + " mm)");
   if (s.crown < 0.0) {
     // A concave cap must not dip below the groove's surface anywhere.
     const Cap cap(toe_a, toe_b, s.crown);
@@ -327,7 +322,7 @@ std::string validate(JointType type, const JointParams& p) {
       double fz = -s.rf;
       if (y < -0.5 * s.g) fz = polyline_z(floor_a, y);
       else if (y > 0.5 * s.g) fz = polyline_z(floor_b, y);
-      if (z < fz) return bad("crown_mm", s.crown, "the concave cap dips below the groove's wall");
+      if (z < fz) return field_error("crown_mm", s.crown, "the concave cap dips below the groove's wall");
     }
   }
   return {};

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 #include <vector>
 
+#include "sensor/field_error.h"
 #include "sensor/workpiece.h"
 
 namespace vts {
@@ -18,18 +18,6 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The flanks' open angle 90 + asin(r/R) stays within the tracker's fillet
 // range (<= 150 degrees): r / R below sin 60 degrees.
 constexpr double kMaxRadiusRatio = 0.8660254037844386;
-
-std::string bad(std::string_view field, double value, const std::string& why) {
-  std::ostringstream s;
-  s << field << " = " << value << ": " << why;
-  return s.str();
-}
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // The O-grid's reach beyond the hole (unrolled mm), see Layout.
 double ogrid_margin(const SaddleParams& p) { return std::max(3.0 * p.cell_mm, 0.2 * p.branch_radius_mm); }
@@ -94,26 +82,29 @@ struct Builder {
 std::string validate(const SaddleParams& p) {
   for (const auto& k : kSaddleParamNumbers) {
     const double v = p.*k.member;
-    if (!std::isfinite(v)) return bad(k.key, v, "must be a finite number");
-    if (v <= 0.0) return bad(k.key, v, "must be > 0");
+    if (!std::isfinite(v)) return field_error(k.key, v, "must be a finite number");
+    if (v <= 0.0) return field_error(k.key, v, "must be > 0");
   }
   const double R = p.main_radius_mm, r = p.branch_radius_mm, h = p.cell_mm;
   if (r >= kMaxRadiusRatio * R)
-    return bad("branch_radius_mm", r,
-               "must be below 0.866 * main_radius_mm = " + num(kMaxRadiusRatio * R) +
-                   " (the flanks' open angle 90 + asin(r/R) must stay under 150 degrees)");
-  if (h > 0.25 * r) return bad("cell_mm", h, "must be at most branch_radius_mm / 4 = " + num(0.25 * r));
+    return field_error("branch_radius_mm", r,
+                       "must be below 0.866 * main_radius_mm = " + message_number(kMaxRadiusRatio * R) +
+                           " (the flanks' open angle 90 + asin(r/R) must stay under 150 degrees)");
+  if (h > 0.25 * r)
+    return field_error("cell_mm", h, "must be at most branch_radius_mm / 4 = " + message_number(0.25 * r));
   const double min_length = 2.0 * (r + ogrid_margin(p) + 2.0 * h);
   if (p.main_length_mm < min_length)
-    return bad("main_length_mm", p.main_length_mm,
-               "must be at least " + num(min_length) + " (the branch, the mesh around it and two cells each side)");
+    return field_error(
+        "main_length_mm", p.main_length_mm,
+        "must be at least " + message_number(min_length) + " (the branch, the mesh around it and two cells each side)");
   if (p.branch_height_mm < R + 2.0 * h)
-    return bad("branch_height_mm", p.branch_height_mm,
-               "must be at least main_radius_mm + 2 * cell_mm = " + num(R + 2.0 * h) +
-                   " (the branch's top stands above the main pipe's crown)");
+    return field_error("branch_height_mm", p.branch_height_mm,
+                       "must be at least main_radius_mm + 2 * cell_mm = " + message_number(R + 2.0 * h) +
+                           " (the branch's top stands above the main pipe's crown)");
   if (saddle_triangle_estimate(p) > static_cast<double>(kMaxWorkpieceTriangles))
-    return bad("cell_mm", h,
-               "too small: the mesh would have more than " + std::to_string(kMaxWorkpieceTriangles) + " triangles");
+    return field_error(
+        "cell_mm", h,
+        "too small: the mesh would have more than " + std::to_string(kMaxWorkpieceTriangles) + " triangles");
   return {};
 }
 

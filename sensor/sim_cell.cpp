@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include "sensor/error_model.h"
+#include "sensor/field_error.h"
 #include "sensor/workpiece.h"
 
 namespace vts {
@@ -38,12 +38,6 @@ struct Rng {
     }
   }
 };
-
-std::string bad(const char* field, double value, const char* why) {
-  std::ostringstream s;
-  s << field << " = " << value << ": " << why;
-  return s.str();
-}
 
 // The point of a seam's root at arc length s and its direction there.
 std::pair<Vec3, Vec3> seam_point(const SimSeamTruth& t, double s) {
@@ -90,37 +84,37 @@ std::string validate(const SimCellParams& p) {
       {"plate_side_mm", p.plate_side_mm},     {"plate_thickness_mm", p.plate_thickness_mm},
       {"lookahead_mm", p.lookahead_mm},       {"standoff_mm", p.standoff_mm}};
   for (const auto& [f, v] : positive)
-    if (!std::isfinite(v) || v <= 0.0) return bad(f, v, "must be a finite number > 0");
+    if (!std::isfinite(v) || v <= 0.0) return field_error(f, v, "must be a finite number > 0");
   if (!std::isfinite(p.offset_mm) || p.offset_mm < 0.0 || p.offset_mm > 50.0)
-    return bad("offset_mm", p.offset_mm, "must be between 0 and 50 mm");
+    return field_error("offset_mm", p.offset_mm, "must be between 0 and 50 mm");
   if (!std::isfinite(p.rotation_deg) || p.rotation_deg < 0.0 || p.rotation_deg > 20.0)
-    return bad("rotation_deg", p.rotation_deg, "must be between 0 and 20 degrees");
+    return field_error("rotation_deg", p.rotation_deg, "must be between 0 and 20 degrees");
   if (p.plate_side_mm < p.box_side_mm + 40.0)
-    return bad("plate_side_mm", p.plate_side_mm, "must exceed box_side_mm by at least 40 mm");
+    return field_error("plate_side_mm", p.plate_side_mm, "must exceed box_side_mm by at least 40 mm");
   if (!std::isfinite(p.seam1_short_mm) || p.seam1_short_mm < 0.0 || p.seam1_short_mm > 0.8 * p.box_side_mm)
-    return bad("seam1_short_mm", p.seam1_short_mm, "must be between 0 and 0.8 box_side_mm");
+    return field_error("seam1_short_mm", p.seam1_short_mm, "must be between 0 and 0.8 box_side_mm");
   if (!std::isfinite(p.seam1_gap_rise_mm) || p.seam1_gap_rise_mm < 0.0 || p.seam1_gap_rise_mm > 5.0)
-    return bad("seam1_gap_rise_mm", p.seam1_gap_rise_mm, "must be between 0 and 5 mm");
+    return field_error("seam1_gap_rise_mm", p.seam1_gap_rise_mm, "must be between 0 and 5 mm");
   if (!std::isfinite(p.seam1_bow_mm) || p.seam1_bow_mm < 0.0 || p.seam1_bow_mm > 0.2 * p.box_side_mm)
-    return bad("seam1_bow_mm", p.seam1_bow_mm, "must be between 0 and 0.2 box_side_mm");
+    return field_error("seam1_bow_mm", p.seam1_bow_mm, "must be between 0 and 0.2 box_side_mm");
   if (p.seam1_bow_mm > 0.0 && 0.5 * p.plate_side_mm - 0.5 * p.box_side_mm < p.seam1_bow_mm + 20.0)
-    return bad("seam1_bow_mm", p.seam1_bow_mm, "must leave 20 mm of plate outside the box");
+    return field_error("seam1_bow_mm", p.seam1_bow_mm, "must leave 20 mm of plate outside the box");
   if (!std::isfinite(p.seam1_wave_mm) || std::abs(p.seam1_wave_mm) > 10.0)
-    return bad("seam1_wave_mm", p.seam1_wave_mm, "must be between -10 and 10 mm");
+    return field_error("seam1_wave_mm", p.seam1_wave_mm, "must be between -10 and 10 mm");
   if (!std::isfinite(p.seam1_wavelength_mm) || p.seam1_wavelength_mm < 30.0)
-    return bad("seam1_wavelength_mm", p.seam1_wavelength_mm, "must be at least 30 mm");
+    return field_error("seam1_wavelength_mm", p.seam1_wavelength_mm, "must be at least 30 mm");
   if (p.seam1_wave_mm != 0.0 && 0.5 * p.plate_side_mm - 0.5 * p.box_side_mm < std::abs(p.seam1_wave_mm) + p.seam1_bow_mm + 20.0)
-    return bad("seam1_wave_mm", p.seam1_wave_mm, "must leave 20 mm of plate outside the box");
+    return field_error("seam1_wave_mm", p.seam1_wave_mm, "must leave 20 mm of plate outside the box");
   if (!std::isfinite(p.tack_spacing_mm) || (p.tack_spacing_mm != 0.0 && p.tack_spacing_mm < 10.0))
-    return bad("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
+    return field_error("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
   if (!std::isfinite(p.distortion_deg_per_100mm) || std::abs(p.distortion_deg_per_100mm) > 5.0)
-    return bad("distortion_deg_per_100mm", p.distortion_deg_per_100mm, "must be between -5 and 5 degrees");
+    return field_error("distortion_deg_per_100mm", p.distortion_deg_per_100mm, "must be between -5 and 5 degrees");
   if (!std::isfinite(p.tack_first_mm) || p.tack_first_mm < 0.0)
-    return bad("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
+    return field_error("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
   if (!std::isfinite(p.tack_length_mm) || p.tack_length_mm <= 0.0 || p.tack_length_mm > 50.0)
-    return bad("tack_length_mm", p.tack_length_mm, "must be between 0 (exclusive) and 50 mm");
+    return field_error("tack_length_mm", p.tack_length_mm, "must be between 0 (exclusive) and 50 mm");
   if (!std::isfinite(p.tack_leg_mm) || p.tack_leg_mm <= 0.0 || p.tack_leg_mm > 15.0)
-    return bad("tack_leg_mm", p.tack_leg_mm, "must be between 0 (exclusive) and 15 mm");
+    return field_error("tack_leg_mm", p.tack_leg_mm, "must be between 0 (exclusive) and 15 mm");
   return {};
 }
 

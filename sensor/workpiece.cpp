@@ -1,13 +1,13 @@
 #include "sensor/workpiece.h"
 
-#include "sensor/groove.h"
-#include "sensor/saddle.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <string>
+
+#include "sensor/field_error.h"
+#include "sensor/groove.h"
+#include "sensor/saddle.h"
 
 namespace vts {
 namespace {
@@ -16,12 +16,6 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 constexpr std::string_view kPlateName = "plate";
 constexpr int kMaxPasses = 1000;
-
-std::string bad(std::string_view field, double value, std::string_view why) {
-  std::ostringstream s;
-  s << field << " = " << value << ": " << why;
-  return s.str();
-}
 
 double signed_area(const std::vector<Vec2>& poly) {
   double a = 0.0;
@@ -306,34 +300,34 @@ std::string validate(JointType type, const JointParams& p) {
       {"cell_mm", p.cell_mm},           {"layer_mm", p.layer_mm},   {"crown_mm", p.crown_mm},
       {"radius_mm", p.radius_mm}};
   for (const auto& [field, value] : all)
-    if (!std::isfinite(value)) return bad(field, value, "must be a finite number");
+    if (!std::isfinite(value)) return field_error(field, value, "must be a finite number");
   for (const auto& [field, value] : {all[0], all[1], all[2], all[3], all[8], all[10], all[12]})
-    if (value <= 0.0) return bad(field, value, "must be > 0");
-  if (p.passes < 0) return bad("passes", p.passes, "must be >= 0 (0: an empty groove)");
-  if (p.passes > kMaxPasses) return bad("passes", p.passes, "must be at most " + std::to_string(kMaxPasses));
-  if (p.gap_mm < 0.0) return bad("gap_mm", p.gap_mm, "must be >= 0");
-  if (p.cell_mm < 0.0) return bad("cell_mm", p.cell_mm, "must be >= 0 (0: no grid)");
+    if (value <= 0.0) return field_error(field, value, "must be > 0");
+  if (p.passes < 0) return field_error("passes", p.passes, "must be >= 0 (0: an empty groove)");
+  if (p.passes > kMaxPasses) return field_error("passes", p.passes, "must be at most " + std::to_string(kMaxPasses));
+  if (p.gap_mm < 0.0) return field_error("gap_mm", p.gap_mm, "must be >= 0");
+  if (p.cell_mm < 0.0) return field_error("cell_mm", p.cell_mm, "must be >= 0 (0: no grid)");
   if (p.length_mm / p.segment_mm > 100000.0)
-    return bad("segment_mm", p.segment_mm, "too small for length_mm (more than 100000 cuts)");
+    return field_error("segment_mm", p.segment_mm, "too small for length_mm (more than 100000 cuts)");
   switch (type) {
     case JointType::Fillet:
       if (p.angle_deg < 30.0 || p.angle_deg > 150.0)
-        return bad("angle_deg", p.angle_deg, "fillet angle must be between 30 and 150 degrees");
+        return field_error("angle_deg", p.angle_deg, "fillet angle must be between 30 and 150 degrees");
       break;
     case JointType::Corner:
       if (p.angle_deg < 90.0 || p.angle_deg >= 180.0)
-        return bad("angle_deg", p.angle_deg, "corner angle must be >= 90 and < 180 degrees");
+        return field_error("angle_deg", p.angle_deg, "corner angle must be >= 90 and < 180 degrees");
       if (p.gap_mm >= p.thickness_mm)
-        return bad("gap_mm", p.gap_mm, "corner gap must be smaller than thickness_mm");
+        return field_error("gap_mm", p.gap_mm, "corner gap must be smaller than thickness_mm");
       break;
     case JointType::VGroove: {
       if (p.angle_deg <= 0.0 || p.angle_deg >= 150.0)
-        return bad("angle_deg", p.angle_deg, "groove angle must be > 0 and < 150 degrees");
+        return field_error("angle_deg", p.angle_deg, "groove angle must be > 0 and < 150 degrees");
       if (p.root_face_mm < 0.0 || p.root_face_mm >= p.thickness_mm)
-        return bad("root_face_mm", p.root_face_mm, "must be >= 0 and smaller than thickness_mm");
+        return field_error("root_face_mm", p.root_face_mm, "must be >= 0 and smaller than thickness_mm");
       const double run = (p.thickness_mm - p.root_face_mm) * std::tan(0.5 * p.angle_deg * kDeg);
       if (p.width_mm <= run)
-        return bad("width_mm", p.width_mm, "must exceed the bevel's width across the seam");
+        return field_error("width_mm", p.width_mm, "must exceed the bevel's width across the seam");
       break;
     }
     default: break;
@@ -346,9 +340,9 @@ std::string validate(JointType type, const JointParams& p) {
       triangles = std::min(kMaxWorkpieceTriangles + 1,
                            triangles + plate_triangle_count(plate, p.segment_mm, p.cell_mm));
     if (triangles > kMaxWorkpieceTriangles)
-      return bad("cell_mm", p.cell_mm,
-                 "too small: the mesh would have more than " + std::to_string(kMaxWorkpieceTriangles) +
-                     " triangles");
+      return field_error(
+          "cell_mm", p.cell_mm,
+          "too small: the mesh would have more than " + std::to_string(kMaxWorkpieceTriangles) + " triangles");
   }
   return {};
 }
