@@ -254,6 +254,14 @@ struct GrooveParams {
   // (an empty groove: a bump in its root is a tack weld, not a bead).
   bool vgroove_fill = false;
   double agree_mm = 1.0;
+  // The bottom is the root or the fill, below the tops: a straight run of it
+  // at least plate_level_mm long (along the tops), parallel to them within
+  // max_top_angle_deg and no deeper below their line than plate_level_share
+  // of the groove's depth (or 2 surface tolerances) is a plate top going on
+  // past a "wall" that is none (a dent, a dropout's or a reflection's edge),
+  // and the reading is rejected.
+  double plate_level_share = 0.2;
+  double plate_level_mm = 3.0;
 };
 
 // The profile's noise level and the tolerances that follow it (tracker/noise.h).

@@ -1988,22 +1988,45 @@ class Matcher {
     // else that point on the wall's line.
     auto toe = [&](const Line& wall, const Vec2& top_edge, int wall_end, int from, int step) {
       const Vec2 foot = wall.project(pt(wall_end));
+      // Where the columns between the wall's last point and the bottom's
+      // first are invalid (a dropout hid the corner), the bottom's first
+      // point may lie farther from the foot (up to 2 max_edge_mm): the wall
+      // runs on unseen down to the bottom, and the toe is where they meet
+      // within that unseen stretch (taken at the wall's last point, it lay
+      // 2-4 mm up the wall). The bottom is then looked at from its first
+      // point on instead of from the foot.
+      const bool in_bottom = from >= bot_first && from <= bot_last;
+      const double reach = in_bottom ? (pt(from) - foot).norm() : 0.0;
+      const bool unseen = in_bottom && reach > 1.0 && reach <= 2.0 * gp.max_edge_mm &&
+                          s_.invalid_columns_between(std::min(s_.cols[wall_end], s_.cols[from]),
+                                                     std::max(s_.cols[wall_end], s_.cols[from])) > 0;
+      const Vec2 anchor = unseen ? pt(from) : foot;
+      const auto within_unseen = [&](const Vec2& x) {
+        return (x - foot).norm() <= reach + tol_ && (x - pt(from)).norm() <= reach + tol_;
+      };
       // A radius at the foot (U, J): the bottom's points next to the wall lie
       // on a circle tangent to it; the toe is where it touches the wall.
-      if (const auto t = tangent_toe(wall, foot, (top_edge - foot).normalized(), from, step, bot_first, bot_last))
-        return *t;
-      // The bottom's points within 3 mm of the wall's foot that lie clearly
-      // off the wall's line (2 tolerances: the corner's points are both), at
-      // least 4, on a line, the first right beside the foot.
-      if (from < bot_first || from > bot_last || (pt(from) - foot).norm() > 1.0) return foot;
+      if (const auto t = tangent_toe(wall, foot, anchor, (top_edge - foot).normalized(), unseen ? reach : 0.0, from,
+                                     step, bot_first, bot_last))
+        return !unseen || within_unseen(*t) ? *t : foot;
+      // The bottom's points within 3 mm of the wall's foot (or of the
+      // bottom's first point past a dropout) that lie clearly off the wall's
+      // line (2 tolerances: the corner's points are both), at least 4, on a
+      // line, the first right beside the foot.
+      if (!in_bottom || (reach > 1.0 && !unseen)) return foot;
       PointSums sums;
-      for (int i = from; i >= bot_first && i <= bot_last && (pt(i) - foot).norm() <= 3.0; i += step)
+      for (int i = from; i >= bot_first && i <= bot_last && (pt(i) - anchor).norm() <= 3.0; i += step)
         if (wall.distance(pt(i)) > 2.0 * tol_) sums.add(pt(i) - s_.ref_);
       if (sums.n < 4) return foot;
       const auto f = s_.fit(sums);
       if (!f || f->rms_mm > tol_) return foot;
       const auto x = intersect(wall, f->line, 0.2);
-      return x && (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
+      if (!x) return foot;
+      // Past a dropout the bottom's line must lie across the wall, within 45
+      // degrees of the tops (a bead's cap, a root's land): rays into a root
+      // gap (the other plate's root face, steep) are no bottom to meet.
+      if (unseen) return within_unseen(*x) && acute_angle_deg(f->line, a.line) <= 45.0 ? *x : foot;
+      return (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
     };
     Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1)
                        : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1) : la.project(pt(b.first)));
@@ -2160,6 +2183,11 @@ class Matcher {
       }
       if (v > low_v + 1e-9) low_v = v, low = k;
     }
+    // The bottom is the root or the fill, below the tops. A straight run of
+    // it at the tops' level, parallel to them, is a plate top going on past
+    // a "wall" that is none: a dent or a dropout's edge in the top read as a
+    // wall, the groove's real wall then lying inside the "bottom".
+    const double plate_level_mm = plate_level_run(bot_first, bot_last, top, along, low_v);
     // The open cross-section: B1, B2, the bottom, B4, B5.
     double area2 = 0.0;
     auto edge = [&](const Vec2& p, const Vec2& q) { area2 += p.x() * q.y() - p.y() * q.x(); };
@@ -2188,27 +2216,35 @@ class Matcher {
     c.accepted = check(c, "first wall", c.wall_a, ra, "deg") && check(c, "second wall", c.wall_b, rb, "deg") &&
                  check(c, "top width", c.top_width, gp.top_width_mm, "mm") &&
                  check(c, "mismatch", c.mismatch, gp.mismatch_mm, "mm") && check(c, "depth", c.depth, gp.depth_mm, "mm");
+    if (c.accepted && plate_level_mm > 0.0) {
+      c.accepted = false;
+      std::snprintf(c.reason, sizeof c.reason,
+                    "a plate top goes on inside the groove (%.3g mm of its bottom lie straight at the tops' level): "
+                    "a wall read is none",
+                    plate_level_mm);
+    }
     if (c.accepted) {
       c.groove_top = top;
       c.evidence = weigh_groove(c, wa ? wa->first : -1, wa ? wa->last : -1, wb ? wb->first : -1, wb ? wb->last : -1, la,
                                 lb, top);
       c.weighed = true;
       // Tops are the work's surface: beyond a top's outer end (within
-      // window_mm of its edge) nothing of the work stands in front of the
+      // window_mm of that end) nothing of the work stands in front of the
       // tops' line. Points there are a surface the reading cannot explain:
       // its "top" lies inside a wider groove (a bead's flat cap or crest
       // paired with a plate top), and the groove that explains them is
-      // another reading.
+      // another reading. (Measured from the top edges instead, a top longer
+      // than window_mm, a fill surface paired with a plate, went unchecked.)
       const ConfidenceParams& cp = p_.confidence;
       int outside = 0, above = 0;
-      auto look = [&](int from, int step, const Vec2& edge) {
+      auto look = [&](int from, int step, const Vec2& end) {
         for (int i = from;
-             i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - edge).squaredNorm() <= cp.window_mm * cp.window_mm;
+             i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - end).squaredNorm() <= cp.window_mm * cp.window_mm;
              i += step)
           ++outside, above += top.signed_distance(pt(i)) > tol_;
       };
-      look(a.first - 1, -1, b1);
-      look(b.last + 1, +1, b5);
+      look(a.first - 1, -1, pt(a.first));
+      look(b.last + 1, +1, pt(b.last));
       if (above > cp.unexplained_points + cp.unexplained_share * (c.evidence.points + outside)) {
         c.accepted = false;
         std::snprintf(c.reason, sizeof c.reason,
@@ -2218,19 +2254,43 @@ class Matcher {
     offer(c);
   }
 
+  // The longest straight piece of the bottom (a fitted segment within the
+  // bottom's points [first, last]) that lies at the tops' level: its line
+  // parallel to the tops' line `top` within max_top_angle_deg, both its ends
+  // (on its line) no deeper below `top` than GrooveParams::plate_level_share
+  // of the groove's depth `depth` (or 2 surface tolerances), and at least
+  // plate_level_mm long along the tops. Its length; 0 if there is none.
+  double plate_level_run(int first, int last, const Line& top, const Vec2& along, double depth) const {
+    const GrooveParams& gp = p_.groove;
+    const double shallow = std::max(2.0 * tol_, gp.plate_level_share * depth);
+    double longest = 0.0;
+    for (const Segment& sg : s_.segments) {
+      if (sg.last < first) continue;
+      if (sg.first > last) break;
+      if (sg.first < first || sg.last > last || !sg.fitted) continue;
+      const Vec2 p0 = sg.line.project(pt(sg.first)), p1 = sg.line.project(pt(sg.last));
+      const double len = std::abs((p1 - p0).dot(along));
+      if (len < gp.plate_level_mm || len <= longest || acute_angle_deg(sg.line, top) > gp.max_top_angle_deg) continue;
+      if (-top.signed_distance(p0) <= shallow && -top.signed_distance(p1) <= shallow) longest = len;
+    }
+    return longest;
+  }
+
   // Where a circle through the bottom's points from `from` on (stepping by
   // `step`, up to 3 mm from the wall's foot, at least 6 points) touches the
   // wall line (`up`: along it from the foot towards the top edge): if the circle fits them (rms within the surface tolerance),
   // its radius is 0.5-50 mm, the points turn 15 degrees or more on it, it
   // is tangent to the wall (its centre's distance to the wall within 2
   // tolerances of its radius) and it touches the wall at or above the
-  // wall's last point. Empty otherwise.
-  std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, const Vec2& up, int from, int step, int lo,
-                                  int hi) const {
+  // wall's last point (or at most `below_mm` below it, where a dropout hid
+  // the wall's lower end). The points are taken within 3 mm of `near` (the
+  // foot, or the bottom's first point past such a dropout). Empty otherwise.
+  std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, const Vec2& near, const Vec2& up,
+                                  double below_mm, int from, int step, int lo, int hi) const {
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     int n = 0;
-    for (int i = from; i >= lo && i <= hi && (pt(i) - foot).norm() <= 3.0; i += step) {
+    for (int i = from; i >= lo && i <= hi && (pt(i) - near).norm() <= 3.0; i += step) {
       const Vec2 q = pt(i) - foot;
       const Eigen::Vector3d row(q.x(), q.y(), 1.0);
       m += row * row.transpose();
@@ -2260,7 +2320,7 @@ class Matcher {
     // point (a sharp corner with noise fits a small circle touching the
     // wall's line below it).
     const Vec2 t = wall.project(c);
-    if ((t - foot).dot(up) < -tol_) return std::nullopt;
+    if ((t - foot).dot(up) < -tol_ - below_mm) return std::nullopt;
     return t;
   }
 

@@ -357,3 +357,28 @@ TEST_CASE("groove: grooves like the issue's real recordings, at 400 mm with 0.1 
     CHECK((*r.track_point - t.b3).norm() < 0.5);
   }
 }
+
+TEST_CASE("groove: a toe hidden by a dropout is where the wall meets the bottom", "[tracker][groove]") {
+  // A filled thick V (2 passes, flat fill, 4 mm layers): the columns within
+  // 2.5 mm of the first toe are invalid (a dropout: the wall's lower end and
+  // the bottom's first millimetres unseen). The toe lies where the wall's
+  // line meets the bottom's, not at the wall's last seen point (2.5 mm up
+  // the wall, which would move the track point 1.1 mm along the bottom).
+  for (const double noise : {0.0, 0.02}) {
+    Groove g;
+    g.passes = 2;
+    Scan s = scan(g);
+    int hidden = 0;
+    for (int i = 0; i < s.profile.size(); ++i)
+      if (s.profile.valid[i] && (Vec2(s.profile.y[i], s.profile.z[i]) - s.truth.b2).norm() <= 2.5)
+        s.profile.invalidate(i, i), ++hidden;
+    if (noise > 0.0) synth::add_noise(s.profile, noise, 7);
+    const auto r = track(s.profile, tk::JointType::VGroove, true);
+    INFO("noise " << noise << ", " << hidden << " columns hidden: " << tk::to_string(r.status) << " " << r.reason);
+    CHECK(hidden >= 10);
+    REQUIRE(r.status == tk::TrackStatus::Ok);
+    REQUIRE(r.break_points[2]);
+    CHECK((*r.break_points[2] - s.truth.b2).norm() < (noise > 0.0 ? 0.3 : 0.1));
+    CHECK((*r.track_point - s.truth.b3).norm() < (noise > 0.0 ? 0.2 : 0.05));
+  }
+}
