@@ -256,6 +256,7 @@ class Matcher {
     prior_ = prior;
     n_readings_ = 0;
     n_kept_ = 0;
+    n_unplaced_ = 0;
     outside_mm_ = std::numeric_limits<double>::infinity();
     switch (joint) {
       case JointType::Fillet: fillet(); break;
@@ -289,6 +290,11 @@ class Matcher {
   int span_ = 0, events_[2] = {0, 0}, gone_[2] = {0, 0};
   Candidate* best_ = nullptr;
   bool found_ = false;
+  // Grooves (their top edges B1, B5) the groove model found but could not
+  // place the track point in: a wall's foot not seen (groove_pair).
+  static constexpr int kMaxUnplaced = 4;
+  std::array<std::pair<Vec2, Vec2>, kMaxUnplaced> unplaced_{};
+  int n_unplaced_ = 0;
   const TrackPrior* prior_ = nullptr;
   // The accepted readings' track points and strengths (the strongest
   // kMaxReadings), for the rival of the best one.
@@ -1791,6 +1797,24 @@ class Matcher {
       found_ = true;
       return;
     }
+    // Beads are laid, and the model found this groove but cannot place its
+    // track point (a wall's foot unseen): the template, which knows no
+    // beads, reading a root between the same top edges is no better placed
+    // (it took a toe's corner for a closed root, 5.6 mm off).
+    if (p_.groove.vgroove_fill && !g_ok && had && best.accepted && best.track) {
+      for (int k = 0; k < n_unplaced_; ++k) {
+        const auto& [e1, e5] = unplaced_[k];
+        const Vec2 along = (e5 - e1).normalized();
+        const double u = (*best.track - e1).dot(along);
+        if (u > -p_.groove.agree_mm && u < (e5 - e1).norm() + p_.groove.agree_mm) {
+          best.accepted = false;
+          std::snprintf(best.reason, sizeof best.reason,
+                        "a wall's foot is not seen (the groove model, with beads laid): the track point cannot be "
+                        "placed");
+          break;
+        }
+      }
+    }
     found_ = had;
     readings_ = readings, n_readings_ = n_readings;
     kept_ = kept, n_kept_ = n_kept;
@@ -1986,7 +2010,9 @@ class Matcher {
     // A toe: where the wall meets the bottom: the wall's line and the line of
     // the bottom's first few points, if they cross near the wall's last point;
     // else that point on the wall's line.
-    auto toe = [&](const Line& wall, const Vec2& top_edge, int wall_end, int from, int step) {
+    // `bare`: the toe is the wall's last seen point with no bottom seen
+    // beside it (nothing within 1 mm): the wall may run on unseen below it.
+    auto toe = [&](const Line& wall, const Vec2& top_edge, int wall_end, int from, int step, bool& bare) {
       const Vec2 foot = wall.project(pt(wall_end));
       // Where the columns between the wall's last point and the bottom's
       // first are invalid (a dropout hid the corner), the bottom's first
@@ -2013,6 +2039,18 @@ class Matcher {
       // bottom's first point past a dropout) that lie clearly off the wall's
       // line (2 tolerances: the corner's points are both), at least 4, on a
       // line, the first right beside the foot.
+      // (Farther than 1 mm and than 2.5 times the points' spacing there, or
+      // with invalid columns between: sparse columns on a wall seen at a
+      // grazing angle leave more than 1 mm between seen points.)
+      if (!in_bottom) {
+        bare = true;
+      } else if (reach > 1.0) {
+        const int prev = wall_end - step;  // the wall's point before its last
+        const double spacing = std::max(prev >= 0 && prev < static_cast<int>(s_.points.size()) ? (pt(wall_end) - pt(prev)).norm() : 0.0,
+                                        from + step >= bot_first && from + step <= bot_last ? (pt(from + step) - pt(from)).norm() : 0.0);
+        bare = unseen || reach > 2.5 * spacing ||
+               s_.invalid_columns_between(std::min(s_.cols[wall_end], s_.cols[from]), std::max(s_.cols[wall_end], s_.cols[from])) > 0;
+      }
       if (!in_bottom || (reach > 1.0 && !unseen)) return foot;
       PointSums sums;
       for (int i = from; i >= bot_first && i <= bot_last && (pt(i) - anchor).norm() <= 3.0; i += step)
@@ -2025,13 +2063,18 @@ class Matcher {
       // Past a dropout the bottom's line must lie across the wall, within 45
       // degrees of the tops (a bead's cap, a root's land): rays into a root
       // gap (the other plate's root face, steep) are no bottom to meet.
-      if (unseen) return within_unseen(*x) && acute_angle_deg(f->line, a.line) <= 45.0 ? *x : foot;
+      if (unseen) {
+        if (!within_unseen(*x) || acute_angle_deg(f->line, a.line) > 45.0) return foot;
+        bare = false;
+        return *x;
+      }
       return (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
     };
-    Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1)
-                       : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1) : la.project(pt(b.first)));
-    Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1)
-                       : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1) : lb.project(pt(a.last)));
+    bool bare_a = false, bare_b = false, unused = false;
+    Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1, bare_a)
+                 : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1, unused) : la.project(pt(b.first)));
+    Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1, bare_b)
+                 : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1, unused) : lb.project(pt(a.last)));
     if ((b4 - b2).dot(along) < -tol_) return;
     // A bevel's square wall runs on straight down as its root face, and a
     // square wall seen edge-on is seen only partway down or not at all (its
@@ -2078,6 +2121,40 @@ class Matcher {
           sq -= above / std::max(0.2, dn.dot(down)) * dn;
         }
         break;
+      }
+    }
+    // A toe at a wall's last seen point, with no bottom seen beside it, may
+    // lie anywhere further down the wall (a shadow or a dropout ends it, and
+    // rays into a root gap or reflections are all that follow). It is where
+    // the groove's bottom is only if it lies about as deep as the other toe:
+    // below its own top as the other below its own (plates offset by a
+    // mismatch), or below the line B1-B5 as the other (plates of unequal
+    // thickness). Higher than both by more than agree_mm, the wall was cut
+    // short and the track point cannot be placed.
+    {
+      Line edges;
+      edges.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
+      edges.c = edges.n.dot(b1);
+      edges.orient_towards(origin_);
+      const double limit = std::max(gp.agree_mm, 3.0 * tol_);
+      for (int side = 0; side < 2; ++side) {
+        const bool is_a = side == 0;
+        if (!(is_a ? bare_a : bare_b) || (one_square && square_a == is_a)) continue;
+        const Vec2& t = is_a ? b2 : b4;
+        const Vec2& o = is_a ? b4 : b2;
+        const double own = depth_below(is_a ? b.line : a.line, o) - depth_below(is_a ? a.line : b.line, t);
+        const double common = depth_below(edges, o) - depth_below(edges, t);
+        const double above = std::min(own, common);
+        if (above > limit) {
+          std::snprintf(c.reason, sizeof c.reason,
+                        "the %s wall's foot is not seen: it is seen down to %.3g mm above the other toe, and nothing "
+                        "beside its last point",
+                        is_a ? "first" : "second", above);
+          c.track = 0.5 * (b2 + b4);
+          if (n_unplaced_ < kMaxUnplaced) unplaced_[n_unplaced_++] = {b1, b5};
+          offer(c);
+          return;
+        }
       }
     }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,

@@ -358,21 +358,38 @@ TEST_CASE("groove: grooves like the issue's real recordings, at 400 mm with 0.1 
   }
 }
 
+namespace {
+
+// A filled thick V (2 passes of 4 mm, flat fill) scanned, the columns whose
+// point `hide(point, truth)` selects made invalid (a dropout or a shadow),
+// then `noise` mm of range noise (seeded). `hidden`: how many were.
+struct HiddenScan {
+  Scan s;
+  int hidden = 0;
+};
+template <class F>
+HiddenScan filled_v_hiding(double noise, std::uint32_t seed, F hide) {
+  Groove g;
+  g.passes = 2;
+  HiddenScan out{scan(g), 0};
+  synth::Profile& p = out.s.profile;
+  for (int i = 0; i < p.size(); ++i)
+    if (p.valid[i] && hide(Vec2(p.y[i], p.z[i]), out.s.truth)) p.invalidate(i, i), ++out.hidden;
+  if (noise > 0.0) synth::add_noise(p, noise, seed);
+  return out;
+}
+
+}  // namespace
+
 TEST_CASE("groove: a toe hidden by a dropout is where the wall meets the bottom", "[tracker][groove]") {
-  // A filled thick V (2 passes, flat fill, 4 mm layers): the columns within
-  // 2.5 mm of the first toe are invalid (a dropout: the wall's lower end and
-  // the bottom's first millimetres unseen). The toe lies where the wall's
-  // line meets the bottom's, not at the wall's last seen point (2.5 mm up
-  // the wall, which would move the track point 1.1 mm along the bottom).
+  // The columns within 2.5 mm of the first toe are invalid (a dropout: the
+  // wall's lower end and the bottom's first millimetres unseen). The toe
+  // lies where the wall's line meets the bottom's, not at the wall's last
+  // seen point (2.5 mm up the wall, which would move the track point 1.1 mm
+  // along the bottom).
   for (const double noise : {0.0, 0.02}) {
-    Groove g;
-    g.passes = 2;
-    Scan s = scan(g);
-    int hidden = 0;
-    for (int i = 0; i < s.profile.size(); ++i)
-      if (s.profile.valid[i] && (Vec2(s.profile.y[i], s.profile.z[i]) - s.truth.b2).norm() <= 2.5)
-        s.profile.invalidate(i, i), ++hidden;
-    if (noise > 0.0) synth::add_noise(s.profile, noise, 7);
+    const auto [s, hidden] =
+        filled_v_hiding(noise, 7, [](const Vec2& q, const Truth& t) { return (q - t.b2).norm() <= 2.5; });
     const auto r = track(s.profile, tk::JointType::VGroove, true);
     INFO("noise " << noise << ", " << hidden << " columns hidden: " << tk::to_string(r.status) << " " << r.reason);
     CHECK(hidden >= 10);
@@ -380,5 +397,28 @@ TEST_CASE("groove: a toe hidden by a dropout is where the wall meets the bottom"
     REQUIRE(r.break_points[2]);
     CHECK((*r.break_points[2] - s.truth.b2).norm() < (noise > 0.0 ? 0.3 : 0.1));
     CHECK((*r.track_point - s.truth.b3).norm() < (noise > 0.0 ? 0.2 : 0.05));
+  }
+}
+
+TEST_CASE("groove: a wall whose foot is not seen leaves the track point unplaced", "[tracker][groove]") {
+  // The second toe is in a shadow: the columns of the wall and the fill
+  // within 7 mm of it are invalid, so the wall is seen down to 3.5 mm above
+  // the toe and the fill up to 7 mm from it: where they meet nobody saw.
+  // Before, the v-groove template's reading stood when the model's was
+  // rejected, and took the first toe's corner for a closed root (5.6 mm off
+  // at 0.05 mm noise). The reading must not be ok there: either rejected,
+  // or (if ok) within 0.3 mm of the truth.
+  for (const double noise : {0.0, 0.05}) {
+    const auto [s, hidden] = filled_v_hiding(noise, 5, [](const Vec2& q, const Truth& t) {
+      // (sensor frame: y across, z range; the fill at the toe's range, the wall beyond its y)
+      return (q - t.b4).norm() <= 7.0 && (q.y() >= t.b4.y() - 0.1 || q.x() >= t.b4.x() - 2.0);
+    });
+    const auto r = track(s.profile, tk::JointType::VGroove, true);
+    INFO("noise " << noise << ", " << hidden << " columns hidden: " << tk::to_string(r.status) << " " << r.reason);
+    CHECK(hidden >= 30);
+    if (r.status == tk::TrackStatus::Ok) {
+      REQUIRE(r.track_point);
+      CHECK((*r.track_point - s.truth.b3).norm() < 0.3);
+    }
   }
 }
