@@ -187,16 +187,19 @@ TEST_CASE("corpus: a plate top going on inside a groove, and toes a dropout hid"
   // a dropout hid the first wall's foot, and the toe taken at the wall's
   // last seen point, 4 mm up the wall, put the track point 1.1 mm off; the
   // toe is where the wall meets the bottom's line, and the reading right.
+  // Thick V 23 (0.2 mm noise): with beads laid and no reading of the groove
+  // model, the v-groove template's V in the noise of a plate, without plate
+  // tops, stood 120 mm off.
   const std::tuple<vc::Joint, std::uint64_t, double> cases[] = {
       {vc::Joint::Bevel, 190, 0.02},   {vc::Joint::Bevel, 289, 0.2},   {vc::Joint::JGroove, 170, 0.2},
       {vc::Joint::JGroove, 294, 0.2},  {vc::Joint::JGroove, 44, 0.2},  {vc::Joint::Bevel, 149, 0.2},
-      {vc::Joint::VGrooveThick, 1, 0.02}};
+      {vc::Joint::VGrooveThick, 1, 0.02}, {vc::Joint::VGrooveThick, 23, 0.2}};
   for (const auto& [joint, seed, level] : cases) {
     const ReadOne one = read_one(joint, seed, level);
     INFO(vc::joint_name(joint) << " seed " << seed << ": " << tk::to_string(one.result.status) << " "
                                << one.result.reason << ", error " << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
-    if (joint == vc::Joint::VGrooveThick) CHECK(one.scored.outcome == tk::Outcome::Right);
+    if (joint == vc::Joint::VGrooveThick && seed == 1) CHECK(one.scored.outcome == tk::Outcome::Right);
   }
 }
 
