@@ -969,8 +969,10 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   // The laser light a strip of kStrip columns at a time (steps 0-2 below,
   // column by column; each pixel gets the same sums in the same order as
   // passes over the whole image would give), then the counts (3).
-  thread_local std::vector<float> strip, laser;  // a strip's laser light; the image's
+  // The image's laser light is written, not read, in rad.laser (scratch).
+  thread_local std::vector<float> strip;
   strip.resize(static_cast<std::size_t>(kStrip) * rows);
+  std::vector<float>& laser = rad.laser;
   laser.resize(static_cast<std::size_t>(w) * rows);
   const int stripe_w = stripe_columns(paths, w);
 

@@ -72,7 +72,8 @@ double dn_per_electron(const ScannerDesc& desc);
 // first_row + rows - 1, row-major (row k of the buffers is image row
 // first_row + k): laser light (coherent: speckle applies; the renderer
 // leaves it at zero, add_stripe adds a LaserPaths' stripe to it; form_image
-// does not read it) and ambient light (the renderer's).
+// uses it as scratch, without reading it) and ambient light (the
+// renderer's).
 struct RadianceImage {
   int width = 0, rows = 0, first_row = 0;
   std::vector<float> laser, ambient;  // W/(mm^2 sr), width * rows each
@@ -142,7 +143,7 @@ void add_stripe(const LaserPaths& paths, RadianceImage& radiance);
 // image column, correlated over the speckle grain), converts to electrons,
 // adds shot and read noise, saturates and quantizes. Draws are keyed by
 // (seed, index): the same profile gives the same image. `radiance.laser` is
-// neither read nor written.
+// not read: it is overwritten as scratch.
 void form_image(const ScannerDesc& desc, RadianceImage& radiance, const LaserPaths& paths,
                 std::uint64_t seed, std::int64_t index, CameraImage& out);
 
