@@ -39,7 +39,6 @@ struct CameraRenderer::Impl {
   GLuint fbo = 0, colour = 0, depth = 0;
   int width = 0, rows = 0, first_row = 0;
   double far_mm = 0.0;
-  std::vector<float> readback;
 
   Impl(const ScannerDesc& d, const Mesh& mesh) : desc(d), cam(camera_geometry(d)) {
     if (const std::string why = validate(d); !why.empty())
@@ -115,7 +114,7 @@ struct CameraRenderer::Impl {
   void make_targets() {
     glGenRenderbuffers(1, &colour);
     glBindRenderbuffer(GL_RENDERBUFFER, colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RG32F, width, rows);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32F, width, rows);
     glGenRenderbuffers(1, &depth);
     glBindRenderbuffer(GL_RENDERBUFFER, depth);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, rows);
@@ -181,11 +180,8 @@ struct CameraRenderer::Impl {
 
     if (out.width != width || out.rows != rows || out.first_row != first_row) out.resize(width, rows, first_row);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    // Two channels, the ambient in the second (the first is unused).
-    readback.resize(static_cast<std::size_t>(width) * rows * 2);
-    glReadPixels(0, 0, width, rows, GL_RG, GL_FLOAT, readback.data());
+    glReadPixels(0, 0, width, rows, GL_RED, GL_FLOAT, out.ambient.data());
     check_gl(kWho, "drawing the camera image");
-    for (std::size_t i = 0, n = static_cast<std::size_t>(width) * rows; i < n; ++i) out.ambient[i] = readback[2 * i + 1];
     std::fill(out.laser.begin(), out.laser.end(), 0.0f);
   }
 };

@@ -151,9 +151,6 @@ void add_pixel_shares(int lo, int hi, double mu, double sigma, double area, floa
 
 // Per-thread scratch of form_image (no allocation per image once grown).
 std::vector<float>& scratch_column() { thread_local std::vector<float> v; return v; }
-std::vector<float>& scratch_blurred() { thread_local std::vector<float> v; return v; }
-std::vector<int>& scratch_lo() { thread_local std::vector<int> v; return v; }
-std::vector<int>& scratch_hi() { thread_local std::vector<int> v; return v; }
 
 }  // namespace
 
@@ -345,8 +342,14 @@ struct StripeColumn {
 // The laser radiance of rows first .. first + count - 1 of the column
 // (docs/SENSOR_MODEL.md, "The camera image": Sheet, Surface, Pixel), each
 // pixel's footprint (the surface point's change along the image's columns
-// and rows) taken on the plane.
-VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, float* __restrict out) {
+// and rows) taken on the plane. With `kBoxOnly` the pixel's share of the
+// sheet is the box (erf) form everywhere, one exp fewer a pixel, and the
+// result is true when some pixel needs the Gaussian instead (a footprint
+// below 1e-3 of the sheet's width): the caller then runs the full form,
+// which gives the same bits in every other pixel.
+template <bool kBoxOnly>
+[[gnu::always_inline]] inline bool stripe_pixels(const StripeColumn& s, int first, int count, float* __restrict out) {
+  int narrow = 0;  // an int: GCC 12 vectorizes an int's |= reduction
   const float dden_row = s.n[0] * s.dir_row[0] + s.n[1] * s.dir_row[1] + s.n[2] * s.dir_row[2];
   const float kPi = 3.14159265358979f;
   for (int i = 0; i < count; ++i) {
@@ -372,9 +375,14 @@ VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, 
     const float h = 0.5f * (std::abs(dx_col) + std::abs(dx_row));  // the pixel's half footprint across the sheet
     const float sigma = std::sqrt(0.25f * w * w + s.psf2 * (dx_col * dx_col + dx_row * dx_row));
     const float kk = 0.70710678f / sigma;
-    const float gauss = 0.39894228f / sigma * exp_nonpositive(-0.5f * px * px / (sigma * sigma));
     const float box = 0.25f * (erf_as((px + h) * kk) - erf_as((px - h) * kk)) / h;
-    const float g = h * kk > 1e-3f ? box : gauss;
+    float g = box;
+    if constexpr (kBoxOnly) {
+      narrow |= static_cast<int>(ok & !(h * kk > 1e-3f));  // (rows not ok are 0 either way)
+    } else {
+      const float gauss = 0.39894228f / sigma * exp_nonpositive(-0.5f * px * px / (sigma * sigma));
+      g = h * kk > 1e-3f ? box : gauss;
+    }
     const float e = s.power_over_fan / r * g * cos_i;
     // Towards the camera, and the mirror direction of the laser's.
     const float inv_len = 1.0f / std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -390,6 +398,10 @@ VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, 
     const float value = e * (s.diffuse / kPi + spec) * (cos_off * cos_off) * (cos_off * cos_off);
     out[i] = ok ? value : 0.0f;
   }
+  return narrow != 0;
+}
+VTS_SIMD_CLONES void stripe_column(const StripeColumn& s, int first, int count, float* __restrict out) {
+  if (stripe_pixels<true>(s, first, count, out)) stripe_pixels<false>(s, first, count, out);
 }
 
 // The primary ray of one image column: its direction and nearest hit (world).
@@ -456,6 +468,31 @@ struct StripeModel {
     p = cam.centre + s * dir;
     return true;
   }
+  // The rows of lo .. hi of column col whose pixels see the plane within
+  // |x| <= bound (x of a ray's point on a plane is a ratio of two affine
+  // functions of the row, monotonic between its poles: solved for x =
+  // +-bound), with two rows more either way; all of lo .. hi when a pole
+  // (the ray parallel to the plane) lies in between or beyond a solution.
+  // Empty (first > last) when none.
+  std::pair<int, int> band_rows(double col, int lo, int hi, const Plane& pl, double bound) const {
+    const Eigen::Vector3d d0 = g0 + col * gc;
+    const double a0 = d0.x(), a1 = gr.x(), b0 = pl.n.dot(d0), b1 = pl.n.dot(gr);
+    const double den_lo = b0 + b1 * lo, den_hi = b0 + b1 * hi;
+    if (!(den_lo * den_hi > 0.0)) return {lo, hi};
+    double rows[2];
+    for (int k = 0; k < 2; ++k) {
+      // centre.x + pl.k (a0 + a1 row) / (b0 + b1 row) = s
+      const double s = (k == 0 ? bound : -bound) - cam.centre.x();
+      const double num = s * b0 - pl.k * a0, den = pl.k * a1 - s * b1;
+      rows[k] = num / den;
+      // (a solution past the pole is on the other branch: all rows)
+      if (!std::isfinite(rows[k]) || !((b0 + b1 * rows[k]) * den_lo > 0.0)) return {lo, hi};
+    }
+    const double first = std::floor(std::min(rows[0], rows[1])) - 2.0;
+    const double last = std::ceil(std::max(rows[0], rows[1])) + 2.0;
+    if (last < lo || first > hi) return {lo, lo - 1};
+    return {static_cast<int>(std::max<double>(lo, first)), static_cast<int>(std::min<double>(hi, last))};
+  }
   double sheet_w(double r) const {
     const double q = (r - focus) / rayleigh;
     return waist * std::sqrt(1.0 + q * q);
@@ -501,14 +538,17 @@ struct StripeModel {
 // sees both ends of the band and its centre), every pixel is evaluated on
 // it. Elsewhere (edges, shadows) each pixel's ray is cast (Embree): the
 // surface it sees, lit where the laser reaches that point.
+// `centre_seen` gets, per column, whether the camera sees the primary hit
+// where that ray was cast (1 or 0; -1 where not), for the truth to reuse.
 void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScene& scene, const Pose& world_from_sensor,
-                  const std::vector<PrimaryHit>& primary, LaserPaths& out) {
+                  const std::vector<PrimaryHit>& primary, LaserPaths& out, std::vector<signed char>& centre_seen) {
   const int w = cam.width;
   const auto [roi_first, roi_rows] = image_roi(d);
   const int roi_last = roi_first + roi_rows - 1;
   out.stripe_offset.assign(static_cast<std::size_t>(w) + 1, 0);
   out.stripe_first_row.assign(static_cast<std::size_t>(w), 0);
   out.stripe_radiance.clear();
+  centre_seen.assign(static_cast<std::size_t>(w), -1);
   const StripeModel model(d);
   const Pose sensor_from_world = world_from_sensor.inverse();
   const Eigen::Matrix3d rot = world_from_sensor.linear();
@@ -559,7 +599,17 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
                           same_plane(ph, primary[static_cast<std::size_t>(c) + 1]);
     values.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
     int first_lit = hi + 1, last_lit = lo - 1;
-    model.column(c, lo, hi - lo + 1, pl, values.data());
+    // Only the rows that can be lit are evaluated (the rest stay 0, as the
+    // evaluation would leave them): where the plane's x is within 1.05
+    // slabs, with two rows more either way (band_rows); if the outer
+    // rows evaluated are lit after all, the whole range is.
+    const auto [ea, eb] = model.band_rows(c, lo, hi, pl, 1.05 * model.slab(q.norm()));
+    if (ea <= eb) {
+      model.column(c, ea, eb - ea + 1, pl, values.data() + (ea - lo));
+      if ((ea > lo && values[static_cast<std::size_t>(ea - lo)] > 0.0f) ||
+          (eb < hi && values[static_cast<std::size_t>(eb - lo)] > 0.0f))
+        model.column(c, lo, hi - lo + 1, pl, values.data());
+    }
     for (int row = lo; row <= hi; ++row)
       if (values[static_cast<std::size_t>(row - lo)] > 0.0f) {
         first_lit = std::min(first_lit, row);
@@ -577,7 +627,10 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
         const Eigen::Vector3d ew = world_from_sensor * e;
         clear = reached(ew, e.norm(), cos_i) && seen(ew, ph.n);
       }
-      clear = clear && seen(ph.p, ph.n);
+      if (clear) {
+        clear = seen(ph.p, ph.n);
+        centre_seen[static_cast<std::size_t>(c)] = clear ? 1 : 0;
+      }
     }
     if (!clear) {
       // Pixel by pixel: what each pixel's ray sees, lit where the laser
@@ -690,7 +743,8 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     ph.p = origin + static_cast<double>(hit.t) * ph.dir;
     ph.n = hit.normal.cast<double>();
   }
-  trace_stripe(d, cam, scene, world_from_sensor, primary, out);
+  std::vector<signed char> centre_seen;
+  trace_stripe(d, cam, scene, world_from_sensor, primary, out, centre_seen);
 
   for (int c = 0; c < w; ++c) {
     Sample& s = samples[static_cast<std::size_t>(c)];
@@ -713,9 +767,13 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     Eigen::Vector2d cr;
     const Eigen::Vector3d to_cam = cam_world - p;
     const double dist_cam = to_cam.norm();
+    // (The same ray as trace_stripe's centre check, where that was cast:
+    // n faces the camera, so it starts at the same point.)
+    const signed char known = centre_seen[static_cast<std::size_t>(c)];
     if (project(cam, p_s, cr) && n.dot(to_cam) > 0.0 &&
-        !scene.occluded((p + 1e-3 * n).cast<float>(), (to_cam / dist_cam).cast<float>(),
-                        static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist_cam))) {
+        (known >= 0 ? known == 1
+                    : !scene.occluded((p + 1e-3 * n).cast<float>(), (to_cam / dist_cam).cast<float>(),
+                                      static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist_cam)))) {
       s.col = cr.x();
       s.row = cr.y();
       s.seen = true;
@@ -836,17 +894,63 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   }
 }
 
-void add_stripe(const LaserPaths& paths, RadianceImage& rad) {
-  const int w = std::min(rad.width, static_cast<int>(paths.stripe_first_row.size()));
-  if (paths.stripe_offset.size() < static_cast<std::size_t>(w) + 1) return;
-  for (int c = 0; c < w; ++c) {
-    const int first = paths.stripe_first_row[static_cast<std::size_t>(c)];
-    for (int k = paths.stripe_offset[static_cast<std::size_t>(c)]; k < paths.stripe_offset[static_cast<std::size_t>(c) + 1]; ++k) {
-      const int row = first + (k - paths.stripe_offset[static_cast<std::size_t>(c)]) - rad.first_row;
-      if (row < 0 || row >= rad.rows) continue;
-      rad.laser[static_cast<std::size_t>(row) * rad.width + c] += paths.stripe_radiance[static_cast<std::size_t>(k)];
-    }
+namespace {
+
+// The columns form_image lights at a time: their pixels, row-major, are 16
+// floats a row (4 KiB for 64 rows), so a column's rows are one cache line
+// apart and the strip stays in L1 from the stripe to the speckle.
+constexpr int kStrip = 16;
+
+// form_image's last step per pixel (see there), in memory order. Its own
+// function so that it gets the AVX2 and AVX-512 clones (32-bit multiplies,
+// packs).
+struct SensorConstants {
+  std::uint32_t key;
+  float k_e, dn_e, read2, offset, noise_scale, max_dn;
+};
+VTS_SIMD_CLONES void sensor_counts(const SensorConstants& k, std::uint32_t count, const float* __restrict laser,
+                                   const float* __restrict ambient, std::uint16_t* __restrict pixels) {
+  const std::uint32_t key = k.key;
+  const float k_e = k.k_e, dn_e = k.dn_e, read2 = k.read2, offset = k.offset, noise_scale = k.noise_scale,
+              max_dn = k.max_dn;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    std::uint32_t x = key ^ (i * 0x9e3779b9u);  // lowbias32 (Wellons): a full-avalanche 32-bit hash
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    const float z = (static_cast<float>((x & 0xffu) + ((x >> 8) & 0xffu) + ((x >> 16) & 0xffu) + (x >> 24)) - 510.0f) *
+                    noise_scale;
+    const float e = std::max(0.0f, (laser[i] + ambient[i]) * k_e);
+    const float noisy = e + std::sqrt(e + read2) * z;
+    pixels[i] = static_cast<std::uint16_t>(std::clamp(noisy * dn_e + offset, 0.0f, max_dn + 0.5f));
   }
+}
+
+// The image columns of `paths` that carry a stripe (at most `width`; none
+// when its offsets are short).
+int stripe_columns(const LaserPaths& paths, int width) {
+  const int w = std::min(width, static_cast<int>(paths.stripe_first_row.size()));
+  return paths.stripe_offset.size() < static_cast<std::size_t>(w) + 1 ? 0 : w;
+}
+// Adds column c's stripe to that column's pixels of image rows first_row ..
+// first_row + rows - 1, row k at col[k * stride].
+void add_stripe_column(const LaserPaths& paths, int c, int first_row, int rows, float* col, std::size_t stride) {
+  const int first = paths.stripe_first_row[static_cast<std::size_t>(c)];
+  const int begin = paths.stripe_offset[static_cast<std::size_t>(c)];
+  for (int k = begin; k < paths.stripe_offset[static_cast<std::size_t>(c) + 1]; ++k) {
+    const int row = first + (k - begin) - first_row;
+    if (row < 0 || row >= rows) continue;
+    col[static_cast<std::size_t>(row) * stride] += paths.stripe_radiance[static_cast<std::size_t>(k)];
+  }
+}
+
+}  // namespace
+
+void add_stripe(const LaserPaths& paths, RadianceImage& rad) {
+  const int w = stripe_columns(paths, rad.width);
+  for (int c = 0; c < w; ++c) add_stripe_column(paths, c, rad.first_row, rad.rows, rad.laser.data() + c, rad.width);
 }
 
 void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& paths, std::uint64_t seed,
@@ -861,40 +965,36 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   out.true_row = paths.true_row;
   out.bounce_row = paths.bounce_row;
   out.mirror_row = paths.mirror_row;
-  const auto at = [w](int col, int k) { return static_cast<std::size_t>(k) * w + col; };
 
-  // 0. The stripe itself (trace_laser_paths).
-  add_stripe(paths, rad);
+  // The laser light a strip of kStrip columns at a time (steps 0-2 below,
+  // column by column; each pixel gets the same sums in the same order as
+  // passes over the whole image would give), then the counts (3).
+  // The image's laser light is written, not read, in rad.laser (scratch).
+  thread_local std::vector<float> strip;
+  strip.resize(static_cast<std::size_t>(kStrip) * rows);
+  std::vector<float>& laser = rad.laser;
+  laser.resize(static_cast<std::size_t>(w) * rows);
+  const int stripe_w = stripe_columns(paths, w);
 
   // 1. The bounce and the mirror image: a Gaussian band per column,
   // integrated over each pixel. The lens blur widens a band as it widens
-  // the stripe (the renderer folds it into the stripe's profile) and keeps
-  // its energy.
-  const auto splat = [&](const std::vector<float>& rows_of, const std::vector<float>& sigma_of,
-                         const std::vector<float>& radiance_of) {
-    for (int c = 0; c < w && c < static_cast<int>(rows_of.size()); ++c) {
-      const float row = rows_of[static_cast<std::size_t>(c)];
-      if (!std::isfinite(row)) continue;
-      const double band = sigma_of[static_cast<std::size_t>(c)];
-      const double sigma = std::hypot(band, d.psf_sigma_px);
-      const double area = radiance_of[static_cast<std::size_t>(c)] * band * std::sqrt(2.0 * std::numbers::pi);
-      const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
-      const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
-      if (lo > hi) continue;
-      // Column c's pixels are a row apart: gather, add, scatter.
-      thread_local std::vector<float> shares;
-      shares.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
-      add_pixel_shares(lo, hi, row, sigma, area, shares.data());
-      for (int r = lo; r <= hi; ++r) rad.laser[at(c, r - r0)] += shares[static_cast<std::size_t>(r - lo)];
-    }
+  // the stripe (the stripe's blur is in its profile) and keeps its energy.
+  const auto splat = [&](int c, const std::vector<float>& rows_of, const std::vector<float>& sigma_of,
+                         const std::vector<float>& radiance_of, float* col) {
+    if (c >= static_cast<int>(rows_of.size())) return;
+    const float row = rows_of[static_cast<std::size_t>(c)];
+    if (!std::isfinite(row)) return;
+    const double band = sigma_of[static_cast<std::size_t>(c)];
+    const double sigma = std::hypot(band, d.psf_sigma_px);
+    const double area = radiance_of[static_cast<std::size_t>(c)] * band * std::sqrt(2.0 * std::numbers::pi);
+    const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
+    const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
+    if (lo > hi) return;
+    thread_local std::vector<float> shares;
+    shares.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+    add_pixel_shares(lo, hi, row, sigma, area, shares.data());
+    for (int r = lo; r <= hi; ++r) col[static_cast<std::size_t>(r - r0) * kStrip] += shares[static_cast<std::size_t>(r - lo)];
   };
-  splat(paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance);
-  splat(paths.mirror_row, paths.mirror_sigma, paths.mirror_radiance);
-
-  std::vector<float>& column = scratch_column();
-  std::vector<float>& blurred = scratch_blurred();
-  column.resize(static_cast<std::size_t>(rows));
-  blurred.resize(static_cast<std::size_t>(rows));
 
   // 2. Speckle: per column a brightness factor (log-normal, mean 1, std dev
   // speckle_contrast) and a shift of the stripe (normal, std dev
@@ -912,78 +1012,67 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
     for (float& a : amp) a = static_cast<float>(std::exp(s * a - 0.5 * s * s));
     for (float& x : shift) x = static_cast<float>(x * d.speckle_px);
   }
-
-  // Speckle touches only the rows around the laser light of each
-  // column: find them in one pass in memory order.
-  std::vector<int>& lo = scratch_lo();
-  std::vector<int>& hi = scratch_hi();
-  lo.assign(static_cast<std::size_t>(w), rows);
-  hi.assign(static_cast<std::size_t>(w), -1);
-  for (int k = 0; k < rows; ++k) {
-    const float* line = rad.laser.data() + static_cast<std::size_t>(k) * w;
-    for (int c = 0; c < w; ++c)
-      if (line[c] > 0.0f) {
-        lo[static_cast<std::size_t>(c)] = std::min(lo[static_cast<std::size_t>(c)], k);
-        hi[static_cast<std::size_t>(c)] = k;
-      }
-  }
   float max_shift = 0.0f;
   for (float x : shift) max_shift = std::max(max_shift, std::abs(x));
   const int pad = static_cast<int>(std::ceil(max_shift)) + 2;
-  for (int c = 0; c < w; ++c) {
-    if (hi[static_cast<std::size_t>(c)] < 0) continue;
-    const int first = std::max(0, lo[static_cast<std::size_t>(c)] - pad);
-    const int last = std::min(rows - 1, hi[static_cast<std::size_t>(c)] + pad);
-    const int m = last - first + 1;
-    for (int k = 0; k < m; ++k) column[static_cast<std::size_t>(k)] = rad.laser[at(c, first + k)];
-    if (speckle) {
-      // Shift by linear interpolation (keeps the centroid's shift exact).
+  std::vector<float>& column = scratch_column();
+
+  // 3. Electrons, shot and read noise, gain, black level, saturation.
+  // Shot noise (variance e) and read noise (variance read^2) are
+  // independent, so their sum is one normal draw of variance e + read^2
+  // per pixel: the sum of the four bytes of a 32-bit hash of the pixel's
+  // number (Irwin-Hall, mean 510, std dev 147.8; within 0.01 of the
+  // normal's distribution function, tails cut at 3.45 sigma). The loop
+  // vectorizes (sensor_counts).
+  const SensorConstants sensor{
+      static_cast<std::uint32_t>(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index))),
+      static_cast<float>(electrons_per_radiance(d)),
+      static_cast<float>(dn_per_electron(d)),
+      static_cast<float>(d.read_noise_e * d.read_noise_e),
+      static_cast<float>(d.dark_offset_dn) + 0.5f,  // + 0.5: rounds when truncated
+      d.image_noise ? 1.0f / 147.8f : 0.0f,
+      static_cast<float>(std::ldexp(1.0, d.image_bits) - 1.0)};
+
+  for (int c0 = 0; c0 < w; c0 += kStrip) {
+    const int nc = std::min(kStrip, w - c0);
+    std::fill(strip.begin(), strip.end(), 0.0f);
+    for (int j = 0; j < nc; ++j) {
+      const int c = c0 + j;
+      float* col = strip.data() + j;  // row k at col[k * kStrip]
+      if (c < stripe_w) add_stripe_column(paths, c, r0, rows, col, kStrip);  // 0. the stripe (trace_laser_paths)
+      splat(c, paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance, col);
+      splat(c, paths.mirror_row, paths.mirror_sigma, paths.mirror_radiance, col);
+      if (!speckle) continue;
+      // Speckle touches only the rows around the laser light of the column.
+      int lo = rows, hi = -1;
+      for (int k = 0; k < rows; ++k)
+        if (col[static_cast<std::size_t>(k) * kStrip] > 0.0f) {
+          lo = std::min(lo, k);
+          hi = k;
+        }
+      if (hi < 0) continue;
+      const int first = std::max(0, lo - pad);
+      const int last = std::min(rows - 1, hi + pad);
+      const int m = last - first + 1;
+      // Shift by linear interpolation (keeps the centroid's shift exact);
+      // rows from outside first .. last count as 0 (the copy's zero margin
+      // of `edge` rows either way).
       const double sh = shift[static_cast<std::size_t>(c)];
       const double a = amp[static_cast<std::size_t>(c)];
       const int whole = static_cast<int>(std::floor(sh));
       const double f = sh - whole;
-      for (int k = 0; k < m; ++k) {
-        const int src = k - whole;
-        const float v0 = src >= 0 && src < m ? column[static_cast<std::size_t>(src)] : 0.0f;
-        const float v1 = src - 1 >= 0 && src - 1 < m ? column[static_cast<std::size_t>(src - 1)] : 0.0f;
-        blurred[static_cast<std::size_t>(k)] = static_cast<float>(a * ((1.0 - f) * v0 + f * v1));
-      }
-      column.swap(blurred);
+      const int edge = std::abs(whole) + 1;
+      column.assign(static_cast<std::size_t>(m + 2 * edge), 0.0f);
+      for (int k = 0; k < m; ++k) column[static_cast<std::size_t>(edge + k)] = col[static_cast<std::size_t>(first + k) * kStrip];
+      const float* src = column.data() + edge - whole;
+      for (int k = 0; k < m; ++k)
+        col[static_cast<std::size_t>(first + k) * kStrip] = static_cast<float>(a * ((1.0 - f) * src[k] + f * src[k - 1]));
     }
-    for (int k = 0; k < m; ++k) rad.laser[at(c, first + k)] = column[static_cast<std::size_t>(k)];
+    for (int k = 0; k < rows; ++k)
+      std::copy_n(strip.data() + static_cast<std::size_t>(k) * kStrip, nc, laser.data() + static_cast<std::size_t>(k) * w + c0);
   }
-
-  // 3. Electrons, shot and read noise, gain, black level, saturation, in
-  // memory order. Shot noise (variance e) and read noise (variance read^2)
-  // are independent, so their sum is one normal draw of variance
-  // e + read^2 per pixel: the sum of the four bytes of a 32-bit hash of the
-  // pixel's number (Irwin-Hall, mean 510, std dev 147.8; within 0.01 of the
-  // normal's distribution function, tails cut at 3.45 sigma). The loop
-  // vectorizes.
-  const float k_e = static_cast<float>(electrons_per_radiance(d));
-  const float dn_e = static_cast<float>(dn_per_electron(d));
-  const float max_dn = static_cast<float>(std::ldexp(1.0, d.image_bits) - 1.0);
-  const float read2 = static_cast<float>(d.read_noise_e * d.read_noise_e);
-  const float offset = static_cast<float>(d.dark_offset_dn) + 0.5f;  // + 0.5: rounds when truncated
-  const float noise_scale = d.image_noise ? 1.0f / 147.8f : 0.0f;
-  const std::uint32_t key = static_cast<std::uint32_t>(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index)));
-  const std::uint32_t count = static_cast<std::uint32_t>(static_cast<std::size_t>(w) * rows);
-  const float* laser = rad.laser.data();
-  const float* ambient = rad.ambient.data();
-  std::uint16_t* pixels = out.pixels.data();
-  for (std::uint32_t i = 0; i < count; ++i) {
-    std::uint32_t x = key ^ (i * 0x9e3779b9u);  // lowbias32 (Wellons): a full-avalanche 32-bit hash
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    const float z = (static_cast<float>((x & 0xffu) + ((x >> 8) & 0xffu) + ((x >> 16) & 0xffu) + (x >> 24)) - 510.0f) *
-                    noise_scale;
-    const float e = std::max(0.0f, (laser[i] + ambient[i]) * k_e);
-    const float noisy = e + std::sqrt(e + read2) * z;
-    pixels[i] = static_cast<std::uint16_t>(std::clamp(noisy * dn_e + offset, 0.0f, max_dn + 0.5f));
-  }
+  sensor_counts(sensor, static_cast<std::uint32_t>(static_cast<std::size_t>(w) * rows), laser.data(), rad.ambient.data(),
+                out.pixels.data());
 }
 
 stripe::PeakParams peak_params(const ScannerDesc& d) {

@@ -70,9 +70,10 @@ double dn_per_electron(const ScannerDesc& desc);
 
 // The radiance of the region of interest, rows first_row ..
 // first_row + rows - 1, row-major (row k of the buffers is image row
-// first_row + k): laser light (coherent: speckle applies; form_image adds
-// it from the LaserPaths, the renderer leaves it at zero) and ambient light
-// (the renderer's).
+// first_row + k): laser light (coherent: speckle applies; the renderer
+// leaves it at zero, add_stripe adds a LaserPaths' stripe to it; form_image
+// uses it as scratch, without reading it) and ambient light (the
+// renderer's).
 struct RadianceImage {
   int width = 0, rows = 0, first_row = 0;
   std::vector<float> laser, ambient;  // W/(mm^2 sr), width * rows each
@@ -135,13 +136,14 @@ void trace_laser_paths(const ScannerDesc& desc, const RayScene& scene, const Pos
 // the region of interest.
 void add_stripe(const LaserPaths& paths, RadianceImage& radiance);
 
-// Turns rendered radiance into the recorded image: adds the stripe
-// (add_stripe) and the bounce and the mirror image (blurred by the lens; the
-// stripe's blur is in its profile), applies speckle (an amplitude and a
-// shift of the stripe per image column, correlated over the speckle grain),
-// converts to electrons, adds shot and read noise, saturates and quantizes.
-// Draws are keyed by (seed, index): the same profile gives the same image.
-// `radiance.laser` is used as scratch.
+// Turns rendered radiance into the recorded image: to the ambient light adds
+// the laser light of `paths`, the stripe (as add_stripe would) and the
+// bounce and the mirror image (blurred by the lens; the stripe's blur is in
+// its profile), applies speckle (an amplitude and a shift of the stripe per
+// image column, correlated over the speckle grain), converts to electrons,
+// adds shot and read noise, saturates and quantizes. Draws are keyed by
+// (seed, index): the same profile gives the same image. `radiance.laser` is
+// not read: it is overwritten as scratch.
 void form_image(const ScannerDesc& desc, RadianceImage& radiance, const LaserPaths& paths,
                 std::uint64_t seed, std::int64_t index, CameraImage& out);
 
