@@ -1547,6 +1547,14 @@ class Matcher {
     }
     if (to - from < 2) return {};
     const Vec2 lo = pt(from), hi = pt(to), d = (hi - lo).normalized();
+    // A cap higher than the surface tolerance above the chord lifts the
+    // middle half of its points by most of that on average: where they lie
+    // lower than a quarter of it, no fit is needed (most plates).
+    const Vec2 n = Vec2(-d.y(), d.x()).dot(origin_ - lo) < 0.0 ? Vec2(d.y(), -d.x()) : Vec2(-d.y(), d.x());
+    const int q = (to - from) / 4;
+    double lift = 0.0;
+    for (int i = from + q; i <= to - q; ++i) lift += (pt(i) - lo).dot(n);
+    if (lift < 0.25 * tol_ * (to - from - 2 * q + 1)) return {};
     return root_bump(lo - 1e-9 * d, hi + 1e-9 * d, from, to);
   }
 
