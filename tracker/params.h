@@ -182,6 +182,19 @@ struct ButtParams {
   bool check_edges = true;
   double edge_past_mm = 0.5;
   double track_interval_mm = 1.0;
+  // Each plate is straight up to its edge preparation: its own points
+  // within ConfidenceParams::window_mm of the edge (on its line within 2
+  // surface tolerances, short of the opening's reach back from the edge +
+  // edge_past_mm: a rounding's or chamfer's points), at least
+  // plate_cap_points, that a parabola fits as a cap convex towards the
+  // sensor (VGrooveParams::root_bump_t's test: its curvature at least
+  // plate_cap_t standard errors from straight given the profile's noise,
+  // higher than the surface tolerance above the chord through its end
+  // points) are a tack weld's or a bead's crest read as a plate: the
+  // reading is rejected as `uncertain` (and stays a rival, as above).
+  bool check_plate_caps = true;
+  int plate_cap_points = 8;
+  double plate_cap_t = 4.0;
 };
 
 struct VGrooveParams {

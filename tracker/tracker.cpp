@@ -1506,7 +1506,62 @@ class Matcher {
                       reach);
       }
     }
+    // The plates' model check: each plate is straight up to its edge (its
+    // edge preparation aside). Its own points near the edge that a parabola
+    // fits as a cap convex towards the sensor, as the v-groove's root check
+    // fits the root (root_bump), are no plate but a tack weld's or a bead's
+    // crest (ButtParams::check_plate_caps).
+    if (bp.check_plate_caps && c.accepted) {
+      const double window = p_.confidence.window_mm;
+      const RootBump ca = plate_bump(a, el.point, true, window, c.opening.slack_a + bp.edge_past_mm);
+      const RootBump cb = plate_bump(b, er.point, false, window, c.opening.slack_b + bp.edge_past_mm);
+      auto cap = [&](const RootBump& r) {
+        return r.points >= bp.plate_cap_points && r.curvature_t >= bp.plate_cap_t && r.height_mm > tol_;
+      };
+      if (cap(ca) || cap(cb)) {
+        const RootBump& r = cap(ca) ? ca : cb;
+        c.accepted = false, c.uncertain = true;
+        std::snprintf(c.reason, sizeof c.reason,
+                      "uncertain: a plate bulges %.2g mm near its edge (%d points, curvature %.0f standard "
+                      "errors from straight: a tack weld or a bead?)",
+                      r.height_mm, r.points, r.curvature_t);
+      }
+    }
     offer(c);
+  }
+
+  // root_bump (the v-groove's open root check) over a butt plate's own
+  // points near its edge `edge` (at the plate's last point if at_last, else
+  // at its first): the run of points from the plate's end back that lie
+  // within reach_mm of the edge along the plate and within 2 surface
+  // tolerances of its line (not past a reflection cluster or a piece of
+  // another surface inside an extended plate), less those within skip_mm
+  // of the edge (its edge preparation), in the frame of the chord through
+  // the run's end points: the fit's height above it is the bulge's sagitta.
+  struct RootBump;  // below, with root_bump
+  RootBump plate_bump(const Plate& pl, const Vec2& edge, bool at_last, double reach_mm, double skip_mm) const {
+    const Vec2 out = outward(pl, edge), e = pl.line.project(edge);
+    auto back = [&](int i) { return (e - pt(i)).dot(out); };  // from the edge back along the plate
+    auto on = [&](int i) { return back(i) <= reach_mm && pl.line.distance(pt(i)) <= 2.0 * tol_; };
+    int from = at_last ? pl.last : pl.first, to = from;
+    if (at_last) {
+      while (from > pl.first && on(from - 1)) --from;
+      while (to > from && back(to) < skip_mm) --to;
+    } else {
+      while (to < pl.last && on(to + 1)) ++to;
+      while (from < to && back(from) < skip_mm) ++from;
+    }
+    if (to - from < 2) return {};
+    const Vec2 lo = pt(from), hi = pt(to), d = (hi - lo).normalized();
+    // A cap higher than the surface tolerance above the chord lifts the
+    // middle half of its points by most of that on average: where they lie
+    // lower than a quarter of it, no fit is needed (most plates).
+    const Vec2 n = Vec2(-d.y(), d.x()).dot(origin_ - lo) < 0.0 ? Vec2(d.y(), -d.x()) : Vec2(-d.y(), d.x());
+    const int q = (to - from) / 4;
+    double lift = 0.0;
+    for (int i = from + q; i <= to - q; ++i) lift += (pt(i) - lo).dot(n);
+    if (lift < 0.25 * tol_ * (to - from - 2 * q + 1)) return {};
+    return root_bump(lo - 1e-9 * d, hi + 1e-9 * d, from, to);
   }
 
   // With TrackerParams::reach_removed_points: moves a plate's end (end_pt, in

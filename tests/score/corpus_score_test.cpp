@@ -21,6 +21,20 @@ struct Limit {
   double min_right;    // share of the profiles whose joint is in view
 };
 
+// Each of the corpus profiles (seed, noise level) of `joint` has a tack
+// weld over the joint (hidden: any `ok` is false) and must be rejected.
+template <std::size_t N>
+void check_tack_rejected(vc::Joint joint, const std::pair<std::uint64_t, double> (&cases)[N]) {
+  for (const auto& [seed, level] : cases) {
+    const ReadOne one = read_one(joint, seed, level);
+    INFO(vc::joint_name(joint) << " seed " << seed << " level " << level << ": " << tk::to_string(one.result.status)
+                               << " " << one.result.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.profile.truth.has_tag("tack_weld"));
+    CHECK(one.profile.truth.has_tag("joint_hidden"));
+    CHECK(one.result.status == tk::TrackStatus::Rejected);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") {
@@ -31,7 +45,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {34, 0.75}},
+      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {31, 0.75}},
       {tk::JointType::VGroove, {57, 0.72}},
   };
   for (const auto& [joint, limit] : limits) {
@@ -228,14 +242,18 @@ TEST_CASE("corpus: a tack weld in a v-groove's root is not read as an open root"
   // "inside a wider groove").
   const std::pair<std::uint64_t, double> cases[] = {{116, kIdealLevel}, {281, kIdealLevel}, {116, 0.005},
                                                     {239, 0.02},        {255, 0.05}};
-  for (const auto& [seed, level] : cases) {
-    const ReadOne one = read_one(vc::Joint::VGroove, seed, level);
-    INFO("seed " << seed << " level " << level << ": " << tk::to_string(one.result.status) << " "
-                 << one.result.reason << ", error " << one.scored.track_error_mm);
-    CHECK(one.profile.truth.has_tag("tack_weld"));
-    CHECK(one.profile.truth.has_tag("joint_hidden"));
-    CHECK(one.result.status == tk::TrackStatus::Rejected);
-  }
+  check_tack_rejected(vc::Joint::VGroove, cases);
+}
+
+TEST_CASE("corpus: a tack weld's crest over a butt joint is not read as a plate", "[tracker][corpus]") {
+  // Development seeds (seed, noise level), each a false read before the
+  // butt plates' model check (ButtParams::check_plate_caps): a tack weld
+  // covers the joint (hidden, truth from the corpus' section), and its
+  // crest was read as a plate beside a step at the tack's foot or its
+  // flank, 3.2-5.5 mm from the joint. Each must now be rejected (the reason
+  // reported is the best reading left's).
+  const std::pair<std::uint64_t, double> cases[] = {{19, 0.02}, {63, 0.1}};
+  check_tack_rejected(vc::Joint::Butt, cases);
 }
 
 TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][corpus]") {
