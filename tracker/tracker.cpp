@@ -1855,17 +1855,17 @@ class Matcher {
     // Beads are laid, and the model has no reading: the template's stands
     // only with both plate tops seen (without, it is a V the noise or a
     // bead's bumps make anywhere: 120 mm off on a plate at 0.2 mm noise).
-    if (p_.groove.vgroove_fill && !g_ok && had && best.accepted && (!best.bp[1] || !best.bp[5])) {
-      best.accepted = false;
-      std::snprintf(best.reason, sizeof best.reason,
-                    "no groove with its plate tops (with beads laid, the v-groove template's reading needs both)");
-    }
-    // Beads are laid, and the model found this groove but cannot place its
-    // track point (a wall's foot unseen): the template, which knows no
-    // beads, reading a root between the same top edges is no better placed
-    // (it took a toe's corner for a closed root, 5.6 mm off).
-    if (p_.groove.vgroove_fill && !g_ok && had && best.accepted && best.track) {
-      for (int k = 0; k < n_unplaced_; ++k) {
+    // And where the model found this groove but cannot place its track point
+    // (a wall's foot unseen), the template, which knows no beads, reading a
+    // root between the same top edges is no better placed (it took a toe's
+    // corner for a closed root, 5.6 mm off).
+    if (p_.groove.vgroove_fill && !g_ok && had && best.accepted) {
+      if (!best.bp[1] || !best.bp[5]) {
+        best.accepted = false;
+        std::snprintf(best.reason, sizeof best.reason,
+                      "no groove with its plate tops (with beads laid, the v-groove template's reading needs both)");
+      }
+      for (int k = 0; best.accepted && best.track && k < n_unplaced_; ++k) {
         const auto& [e1, e5] = unplaced_[k];
         const Vec2 along = (e5 - e1).normalized();
         const double u = (*best.track - e1).dot(along);
@@ -1874,7 +1874,6 @@ class Matcher {
           std::snprintf(best.reason, sizeof best.reason,
                         "a wall's foot is not seen (the groove model, with beads laid): the track point cannot be "
                         "placed");
-          break;
         }
       }
     }
@@ -2090,9 +2089,12 @@ class Matcher {
       // point on instead of from the foot.
       const bool in_bottom = from >= bot_first && from <= bot_last;
       const double reach = in_bottom ? (pt(from) - foot).norm() : 0.0;
-      const bool unseen = in_bottom && reach > 1.0 && reach <= 2.0 * gp.max_edge_mm &&
-                          s_.invalid_columns_between(std::min(s_.cols[wall_end], s_.cols[from]),
-                                                     std::max(s_.cols[wall_end], s_.cols[from])) > 0;
+      // Invalid columns between the wall's last point and the bottom's first
+      // (looked at only where those lie more than 1 mm apart).
+      const bool gap_invalid = in_bottom && reach > 1.0 &&
+                               s_.invalid_columns_between(std::min(s_.cols[wall_end], s_.cols[from]),
+                                                          std::max(s_.cols[wall_end], s_.cols[from])) > 0;
+      const bool unseen = gap_invalid && reach <= 2.0 * gp.max_edge_mm;
       const Vec2 anchor = unseen ? pt(from) : foot;
       const auto within_unseen = [&](const Vec2& x) {
         return (x - foot).norm() <= reach + tol_ && (x - pt(from)).norm() <= reach + tol_;
@@ -2102,22 +2104,24 @@ class Matcher {
       if (const auto t = tangent_toe(wall, foot, anchor, (top_edge - foot).normalized(), unseen ? reach : 0.0, from,
                                      step, bot_first, bot_last))
         return !unseen || within_unseen(*t) ? *t : foot;
-      // The bottom's points within 3 mm of the wall's foot (or of the
-      // bottom's first point past a dropout) that lie clearly off the wall's
-      // line (2 tolerances: the corner's points are both), at least 4, on a
-      // line, the first right beside the foot.
-      // (Farther than 1 mm and than 2.5 times the points' spacing there, or
-      // with invalid columns between: sparse columns on a wall seen at a
-      // grazing angle leave more than 1 mm between seen points.)
+      // Bare: no bottom, or its first point farther than 1 mm and than 2.5
+      // times the points' spacing there, or with invalid columns between
+      // (sparse columns on a wall seen at a grazing angle leave more than
+      // 1 mm between seen points).
       if (!in_bottom) {
         bare = true;
       } else if (reach > 1.0) {
         const int prev = wall_end - step;  // the wall's point before its last
-        const double spacing = std::max(prev >= 0 && prev < static_cast<int>(s_.points.size()) ? (pt(wall_end) - pt(prev)).norm() : 0.0,
-                                        from + step >= bot_first && from + step <= bot_last ? (pt(from + step) - pt(from)).norm() : 0.0);
-        bare = unseen || reach > 2.5 * spacing ||
-               s_.invalid_columns_between(std::min(s_.cols[wall_end], s_.cols[from]), std::max(s_.cols[wall_end], s_.cols[from])) > 0;
+        const bool prev_ok = prev >= 0 && prev < static_cast<int>(s_.points.size());
+        const bool next_ok = from + step >= bot_first && from + step <= bot_last;
+        const double spacing = std::max(prev_ok ? (pt(wall_end) - pt(prev)).norm() : 0.0,
+                                        next_ok ? (pt(from + step) - pt(from)).norm() : 0.0);
+        bare = gap_invalid || reach > 2.5 * spacing;
       }
+      // The bottom's points within 3 mm of the wall's foot (or of the
+      // bottom's first point past a dropout) that lie clearly off the wall's
+      // line (2 tolerances: the corner's points are both), at least 4, on a
+      // line, the first right beside the foot.
       if (!in_bottom || (reach > 1.0 && !unseen)) return foot;
       PointSums sums;
       for (int i = from; i >= bot_first && i <= bot_last && (pt(i) - anchor).norm() <= 3.0; i += step)
@@ -2198,11 +2202,12 @@ class Matcher {
     // mismatch), or below the line B1-B5 as the other (plates of unequal
     // thickness). Higher than both by more than agree_mm, the wall was cut
     // short and the track point cannot be placed.
+    // (top: the line B1-B5, normal towards the sensor; the bottom's frame below.)
+    Line top;
+    top.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
+    top.c = top.n.dot(b1);
+    top.orient_towards(origin_);
     {
-      Line edges;
-      edges.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
-      edges.c = edges.n.dot(b1);
-      edges.orient_towards(origin_);
       const double limit = std::max(gp.agree_mm, 3.0 * tol_);
       for (int side = 0; side < 2; ++side) {
         const bool is_a = side == 0;
@@ -2210,7 +2215,7 @@ class Matcher {
         const Vec2& t = is_a ? b2 : b4;
         const Vec2& o = is_a ? b4 : b2;
         const double own = depth_below(is_a ? b.line : a.line, o) - depth_below(is_a ? a.line : b.line, t);
-        const double common = depth_below(edges, o) - depth_below(edges, t);
+        const double common = depth_below(top, o) - depth_below(top, t);
         const double above = std::min(own, common);
         if (above > limit) {
           std::snprintf(c.reason, sizeof c.reason,
@@ -2226,10 +2231,6 @@ class Matcher {
     }
     // The bottom as a polyline from toe to toe, in the tops' frame (u along,
     // v down from the line B1-B5), narrow notches closed at their shoulders.
-    Line top;
-    top.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
-    top.c = top.n.dot(b1);
-    top.orient_towards(origin_);
     auto& poly = scratch_;
     poly.clear();
     poly.push_back(b2);
