@@ -44,9 +44,9 @@ vc::Options options_for(double level, bool camera_in_laser_plane) {
   return opt;
 }
 
-ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level) {
+ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level, const tk::TrackerParams& base) {
   ReadOne one{vc::make_profile(joint, seed, options_for(level, false)), {}, {}};
-  tk::TrackerParams params;
+  tk::TrackerParams params = base;
   params.joint = joint_of(joint);
   params.groove.vgroove_fill = joint == vc::Joint::VGrooveThick;
   tk::Tracker tracker(params);

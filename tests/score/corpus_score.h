@@ -43,7 +43,8 @@ struct ReadOne {
   tk::TrackResult result;
   tk::Scored scored;
 };
-ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level);
+// One corpus profile read with `base` (its joint and --fill set as run() does).
+ReadOne read_one(vc::Joint joint, std::uint64_t seed, double level, const tk::TrackerParams& base = {});
 
 // Calls `each` (if set) with every profile, its result and score.
 tk::ScoreTable run(const RunOptions& o, const tk::TrackerParams& base = {},

@@ -4,8 +4,10 @@
 //                    [--failures N] [--tag-stats] [--features FILE] [--dump JOINT SEED LEVEL PREFIX]
 // --failures N prints up to N false reads and imprecise readings per joint
 // (seed, tags, result) for a look at them; --features FILE writes one CSV
-// line per profile (outcome, error, confidence terms, rival).
+// line per profile (outcome, error, confidence terms, rival, break points,
+// groove values, how far the track point and B2-B4 lie from a seen point).
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -110,7 +112,10 @@ int main(int argc, char** argv) {
   FILE* features = features_path.empty() ? nullptr : std::fopen(features_path.c_str(), "w");
   if (features)
     std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
-                           "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason\n");
+                           "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason");
+  if (features)
+    for (int k = 0; k < tk::kMaxBreakPoints; ++k) std::fprintf(features, ",b%dy,b%dz", k, k);
+  if (features) std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4\n");
   std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
   // (joint, tag) -> profiles with it, and of them right / imprecise / rejected / false.
@@ -132,12 +137,30 @@ int main(int argc, char** argv) {
       std::string reason = r.reason.substr(0, r.reason.find_first_of(":,("));
       const double rival_error =
           r.rival_track_point ? (*r.rival_track_point - tk::Vec2(p.truth.track_y_mm, p.truth.track_z_mm)).norm() : -1.0;
-      std::fprintf(features, "%s,%llu,%g,%s,%.4f,%s,%.5f,%.4f,%.4f,%.3f,%.5f,%.4f,%.4f,%zu,%d,%.3f,%s\n",
+      std::fprintf(features, "%s,%llu,%g,%s,%.4f,%s,%.5f,%.4f,%.4f,%.3f,%.5f,%.4f,%.4f,%zu,%d,%.3f,%s",
                    vc::joint_name(p.truth.joint), static_cast<unsigned long long>(p.truth.seed), level,
                    std::string(tk::to_string(s.outcome)).c_str(), s.track_error_mm,
                    std::string(tk::to_string(r.status)).c_str(), r.confidence, r.strength, r.rival_strength, rival_mm,
                    r.noise_mm, r.track_uncertainty_mm, r.edge_uncertainty_mm, r.readings.size(),
                    p.truth.has_tag("joint_hidden") || p.truth.has_tag("notch_unseen") ? 1 : 0, rival_error, reason.c_str());
+      // The break points (nan where the reading has none) and the groove
+      // values, to test a model check on the readings before writing it.
+      for (const auto& bp : r.break_points)
+        std::fprintf(features, ",%.4f,%.4f", bp ? bp->x() : tk::kNotMeasured, bp ? bp->y() : tk::kNotMeasured);
+      std::fprintf(features, ",%.3f,%.3f,%.4f", r.wall_angle_a_deg, r.wall_angle_b_deg, r.depth_mm);
+      // How far the track point and B2-B4 lie from the nearest point seen.
+      auto nearest = [&](const std::optional<tk::Vec2>& x) {
+        double best = tk::kNotMeasured;
+        if (!x) return best;
+        for (std::size_t i = 0; i < p.y.size(); ++i)
+          if (p.valid[i]) {
+            const double d = std::hypot(p.y[i] - x->x(), p.z[i] - x->y());
+            if (!(d >= best)) best = d;
+          }
+        return best;
+      };
+      std::fprintf(features, ",%.4f,%.4f,%.4f,%.4f\n", nearest(r.track_point), nearest(r.break_points[2]),
+                   nearest(r.break_points[3]), nearest(r.break_points[4]));
     }
     if (s.outcome != tk::Outcome::False && s.outcome != tk::Outcome::Imprecise) return;
     const tk::JointType j = joint_of(p.truth.joint);
