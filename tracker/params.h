@@ -275,6 +275,13 @@ struct GrooveParams {
   // and the reading is rejected.
   double plate_level_share = 0.2;
   double plate_level_mm = 3.0;
+  // The track point is the bottom midway between the toes, the groove's
+  // deepest part: B3 less than this share of the groove's depth below the
+  // tops' line, on the way from one toe up to the other (deeper than one,
+  // shallower than the other, within the surface tolerance), sits on a wall
+  // read as the bottom, and the reading is rejected. A crest of the fill (B3
+  // above both toes: a bead in the middle of a nearly full groove) is not.
+  double min_track_depth_share = 0.5;
 };
 
 // The profile's noise level and the tolerances that follow it (tracker/noise.h).
@@ -317,7 +324,7 @@ struct NoiseParams {
 // readings (rivals farther than distinct_mm) and "the joint is not in view",
 // with the prior hidden_prior for the latter and the rest spread evenly over
 // the profile's n usable points:
-//   confidence = e^E / (e^E + sum over rivals e^E_r + n hidden_prior / (1 - hidden_prior)).
+//   confidence = 1 / (1 + sum over rivals e^((E_r - E) / temperature) + n hidden_prior / (1 - hidden_prior) e^-E).
 struct ConfidenceParams {
   double window_mm = 10.0;  // plate points this close to the track point are weighed
   // A point costs nothing within noise_k sigmas of the line that explains
@@ -329,6 +336,16 @@ struct ConfidenceParams {
   // The share of profiles in which the joint is not in view (a tack weld over
   // it, a shadow, the seam's ends): a lone weak reading is then noise.
   double hidden_prior = 0.05;
+  // The confidence weighs a rival reading's (or a step's) log-likelihood
+  // ratio to the reading divided by this temperature: each point and column
+  // of the two readings' common window counts as independent, and the event
+  // rates come from the profile's few events, so undivided the comparison
+  // is overconfident (readings stated 0.95-0.99 sure were false reads one
+  // time in five on the corpus' development seeds). 2 is the maximum-
+  // likelihood temperature there (docs/JOINTS.md "Calibration"); 1 is the
+  // raw posterior. The "not in view" term and TrackResult::strength are not
+  // divided.
+  double temperature = 2.0;
   // Readings less sure than this are rejected ("weak" or "ambiguous").
   double min_confidence = 0.9;
   // A reading must explain the points near the joint: it is rejected

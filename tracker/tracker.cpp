@@ -2333,6 +2333,22 @@ class Matcher {
     // a "wall" that is none: a dent or a dropout's edge in the top read as a
     // wall, the groove's real wall then lying inside the "bottom".
     const double plate_level_mm = plate_level_run(bot_first, bot_last, top, along, low_v);
+    // B3 in the groove's upper half on the way from one toe up to the other
+    // rests on a wall read as the bottom (a wall's piece or a plate top's
+    // noise taken for the other wall: 4-24 mm off at 0.05-0.2 mm noise).
+    {
+      const double d2 = depth_below(top, b2), d3 = depth_below(top, b3), d4 = depth_below(top, b4);
+      if (low_v > 0.0 && d3 < gp.min_track_depth_share * low_v && d3 >= std::min(d2, d4) - tol_ &&
+          d3 <= std::max(d2, d4) + tol_) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the track point lies %.3g mm below the tops, in the upper part of a groove %.3g mm deep, on "
+                      "the way from one toe (%.3g mm) up to the other (%.3g mm): a wall read as the bottom?",
+                      d3, low_v, std::max(d2, d4), std::min(d2, d4));
+        c.track = b3;
+        offer(c);
+        return;
+      }
+    }
     // The open cross-section: B1, B2, the bottom, B4, B5.
     double area2 = 0.0;
     auto edge = [&](const Vec2& p, const Vec2& q) { area2 += p.x() * q.y() - p.y() * q.x(); };
@@ -2800,8 +2816,12 @@ class Matcher {
         break;
       }
       if ((i_short && !tl) || (j_short && !tr)) return;
-      // The tops must be one plane (VGrooveParams::max_top_angle_deg).
-      if (tl && tr && acute_angle_deg(tl->line, tr->line) > vp.max_top_angle_deg) {
+      // The tops must be one plane: parallel (VGrooveParams::max_top_angle_deg)
+      // and apart by no more than the mismatch (a bead's cap deep in a thick
+      // groove, paired with the real plate top, is parallel to it too; the
+      // groove model asks the same of its tops).
+      if (tl && tr && (acute_angle_deg(tl->line, tr->line) > vp.max_top_angle_deg ||
+                       tl->line.distance(pt(tr->first)) > vp.mismatch_mm.max + tol_)) {
         if (!i_short) tl.reset();
         if (!j_short) tr.reset();
       }
@@ -3100,9 +3120,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     out.strength = e;
     const double hidden = std::clamp(cp.hidden_prior, 1e-12, 1.0 - 1e-12);
     const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
+    // Readings compared with each other (a rival, a step beyond the joint)
+    // at the calibration's temperature; against "not in view" as they are.
+    const double tau = cp.temperature;
     double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
     m.for_each_rival(best, [&](const Vec2& track, double strength) {
-      rivals += std::exp(std::min(strength - e, 700.0));
+      rivals += std::exp(std::min((strength - e) / tau, 700.0));
       if (!out.rival_track_point || strength > out.rival_strength) {
         out.rival_track_point = track;
         out.rival_strength = strength;
@@ -3113,7 +3136,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     // as strong as its points' cost.
     int u_first = 0, u_last = 0;
     const double beyond = m.unexplained_beyond(best, u_first, u_last);
-    const double step_rival = beyond > 0.0 ? std::exp(std::min(beyond - e, 700.0)) : 0.0;
+    const double step_rival = beyond > 0.0 ? std::exp(std::min((beyond - e) / tau, 700.0)) : 0.0;
     out.confidence = 1.0 / (1.0 + against + rivals + step_rival);
     // The reading must explain the points near the joint: a bead, a tack
     // weld or a body there that fits none of its lines is no part of this

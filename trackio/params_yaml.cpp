@@ -74,6 +74,7 @@ const ParamField kFields[] = {
     VTS_PARAM("confidence.window_mm", (Limit{0, kInf, true}), params.confidence.window_mm),
     VTS_PARAM("confidence.distinct_mm", (Limit{0, kInf, true}), params.confidence.distinct_mm),
     VTS_PARAM("confidence.hidden_prior", (Limit{0, 1, true}), params.confidence.hidden_prior),
+    VTS_PARAM("confidence.temperature", (Limit{0, kInf, true}), params.confidence.temperature),
     VTS_PARAM("confidence.min_confidence", (Limit{0, 1}), params.confidence.min_confidence),
     VTS_PARAM("confidence.unexplained_points", (Limit{0, 4096}), params.confidence.unexplained_points),
     VTS_PARAM("confidence.unexplained_share", (Limit{0, 1}), params.confidence.unexplained_share),

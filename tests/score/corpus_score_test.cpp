@@ -45,7 +45,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {31, 0.75}},
+      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {16, 0.73}},
       {tk::JointType::VGroove, {57, 0.72}},
   };
   for (const auto& [joint, limit] : limits) {
@@ -66,10 +66,10 @@ TEST_CASE("corpus: the groove model's scores do not get worse", "[tracker][corpu
   o.first_seed = 1000001;
   o.profiles = 100;
   const std::pair<vc::Joint, Limit> limits[] = {
-      {vc::Joint::Bevel, {21, 0.68}},
-      {vc::Joint::UGroove, {1, 0.47}},
+      {vc::Joint::Bevel, {20, 0.68}},
+      {vc::Joint::UGroove, {0, 0.47}},
       {vc::Joint::JGroove, {3, 0.63}},
-      {vc::Joint::VGrooveThick, {9, 0.76}},
+      {vc::Joint::VGrooveThick, {6, 0.76}},
   };
   for (const auto& [joint, limit] : limits) {
     o.joints = {joint};
@@ -179,14 +179,64 @@ TEST_CASE("corpus: grooves whose track point was read off the bottom", "[tracker
   // bevel's seen end to a hidden toe (bevel 272, geometry only), on a
   // reflection cluster over the bottom (bevel 3, thick V 265), or a bead's
   // crest or flat cap taken for a plate top (bevel 39; J 96 at 0.05 mm).
+  // Bevel 4 and 7 at 0.2 mm (8.7-10.5 mm off): a bump of a plate top read
+  // as a wall 0.1-0.4 mm high put the real wall into the "bottom", and B3
+  // halfway up it (GrooveParams::min_track_depth_share).
   const std::tuple<vc::Joint, std::uint64_t, double> cases[] = {
       {vc::Joint::Bevel, 272, kIdealLevel}, {vc::Joint::Bevel, 3, 0.0},     {vc::Joint::Bevel, 39, 0.0},
-      {vc::Joint::VGrooveThick, 265, 0.0}, {vc::Joint::JGroove, 96, 0.05}};
+      {vc::Joint::VGrooveThick, 265, 0.0}, {vc::Joint::JGroove, 96, 0.05}, {vc::Joint::Bevel, 4, 0.2},
+      {vc::Joint::Bevel, 7, 0.2}};
   for (const auto& [joint, seed, level] : cases) {
     const ReadOne one = read_one(joint, seed, level);
     INFO(vc::joint_name(joint) << " seed " << seed << ": " << tk::to_string(one.result.status) << " "
                                << one.result.reason << ", error " << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: a thick groove's bead cap is no plate top for the v-groove template", "[tracker][corpus][groove]") {
+  // Development seeds, thick v-grooves with beads laid (--fill), each a
+  // false read 2.9-24 mm off: the groove model had no reading, and the
+  // v-groove template paired a bead's flat cap deep in the groove with the
+  // real plate top as its tops (parallel, 20-70 mm apart), its V in the
+  // fill. The tops must be one plane within the mismatch: without them the
+  // template's reading does not stand with beads laid.
+  const std::pair<std::uint64_t, double> cases[] = {{47, 0.02}, {130, 0.05}, {132, 0.05}, {12, 0.1},
+                                                    {239, 0.1}, {87, 0.2},   {140, 0.2}};
+  for (const auto& [seed, level] : cases) {
+    const ReadOne one = read_one(vc::Joint::VGrooveThick, seed, level);
+    INFO("seed " << seed << " level " << level << ": " << tk::to_string(one.result.status) << " "
+                 << one.result.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.scored.outcome != tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: far butt readings whose rival is nearly as strong are ambiguous once calibrated", "[tracker][corpus]") {
+  // Development seeds (seed, noise level), each a false read 4.8-105 mm off
+  // at the raw posterior (ConfidenceParams::temperature 1, confidence
+  // 0.93-0.98): a dropout run or a reflection read as the joint, with the
+  // true joint (or as strong a reading) its rival. At the calibrated
+  // temperature (docs/JOINTS.md "Calibration") the profile comes back
+  // ambiguous.
+  struct Case {
+    vc::Joint joint;
+    std::uint64_t seed;
+    double level;
+  };
+  const Case cases[] = {{vc::Joint::Butt, 179, 0.02}, {vc::Joint::Butt, 179, 0.2}, {vc::Joint::Butt, 251, 0.1},
+                        {vc::Joint::Butt, 188, 0.2},  {vc::Joint::VGroove, 47, 0.05}};
+  tk::TrackerParams raw;
+  raw.confidence.temperature = 1.0;
+  for (const Case& c : cases) {
+    const ReadOne one = read_one(c.joint, c.seed, c.level);
+    const ReadOne before = read_one(c.joint, c.seed, c.level, raw);
+    INFO(vc::joint_name(c.joint) << " seed " << c.seed << " level " << c.level << ": "
+                                 << tk::to_string(one.result.status) << " " << one.result.reason << "; at T = 1: "
+                                 << tk::to_string(before.result.status) << ", error " << before.scored.track_error_mm);
+    CHECK(before.scored.outcome == tk::Outcome::False);
+    CHECK(one.scored.outcome != tk::Outcome::False);
+    CHECK(one.result.reason.rfind("ambiguous", 0) == 0);
+    CHECK(one.result.confidence < before.result.confidence);
   }
 }
 
