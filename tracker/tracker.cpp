@@ -2571,10 +2571,20 @@ class Matcher {
           auto value = [&](std::size_t k) { return hull[k].y() - slope * hull[k].x(); };
           // The hull is convex: climb from the last j's maximum (the
           // chords' slopes change little from one j to the next).
+          // (Each value once: the same arithmetic as evaluating it anew.)
           top = std::min(top, n_hull - 1);
-          while (top + 1 < n_hull && value(top + 1) > value(top)) ++top;
-          while (top > 0 && value(top - 1) > value(top)) --top;
-          if (value(top) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
+          double v_top = value(top);
+          for (; top + 1 < n_hull; ++top) {
+            const double v = value(top + 1);
+            if (!(v > v_top)) break;
+            v_top = v;
+          }
+          for (; top > 0; --top) {
+            const double v = value(top - 1);
+            if (!(v > v_top)) break;
+            v_top = v;
+          }
+          if (v_top + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
         }
         bool below = true;
         double deepest = 0.0;
