@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace vts::tracker {
@@ -13,9 +14,14 @@ double estimate_noise_mm(const ProfileView& p, int roi_first, int roi_last) {
   const int lo = std::max(0, roi_first);
   const int hi = roi_last < 0 ? n - 1 : std::min(n - 1, roi_last);
   if (hi - lo < 4) return 0.0;
+  // Without branches: the five columns of a run are tested together.
+  const bool all_valid = p.valid.empty();
+  const float* py = p.y_mm.data();
+  const float* pz = p.z_mm.data();
+  const std::uint8_t* pv = p.valid.data();
   auto usable = [&](int i) {
     // Comparisons are false for NaN: finite and flagged valid.
-    return (p.valid.empty() || p.valid[i] != 0) && std::abs(p.y_mm[i]) <= 1e30f && std::abs(p.z_mm[i]) <= 1e30f;
+    return (all_valid | (!all_valid && pv[i] != 0)) & (std::abs(py[i]) <= 1e30f) & (std::abs(pz[i]) <= 1e30f);
   };
   // Runs of five columns centred on i = lo + 2 + k * stride; squared
   // distances (the median of their roots is the root of their median).
@@ -24,7 +30,7 @@ double estimate_noise_mm(const ProfileView& p, int roi_first, int roi_last) {
   std::array<float, kNoiseSamples + 1> d2;
   int m = 0;
   for (int i = lo + 2; i <= hi - 2 && m <= kNoiseSamples; i += stride) {
-    if (!usable(i - 2) || !usable(i - 1) || !usable(i) || !usable(i + 1) || !usable(i + 2)) continue;
+    if (!(usable(i - 2) & usable(i - 1) & usable(i) & usable(i + 1) & usable(i + 2))) continue;
     const float ay = p.y_mm[i - 2], az = p.z_mm[i - 2];
     const float cy = p.y_mm[i + 2] - ay, cz = p.z_mm[i + 2] - az;
     const float len2 = cy * cy + cz * cz;

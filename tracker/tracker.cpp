@@ -188,6 +188,8 @@ class Matcher {
     // a point (removed, or kept in a segment shorter than s_min) behind the
     // line of the nearer long segment beside it by more than the surface
     // tolerance.
+    in2_ = p.confidence.noise_k * p.confidence.noise_k;
+    cap2_ = std::max(p.confidence.cap_sigma * p.confidence.cap_sigma, in2_);
     {
       const double in2 = p.confidence.noise_k * p.confidence.noise_k;
       const auto zero = [&](double d) {
@@ -231,16 +233,33 @@ class Matcher {
     }
     next_seg = s.segments.size();
     for (; o < s.outlier_cols.size(); ++o) off_plates_[s.outlier_cols[o]] = behind(s.outlier_points[o], s.outlier_cols[o]);
-    // Both loops without branches, so that they vectorise (values 0, 1, 2).
-    std::uint8_t* off = off_plates_.data();
-    for (int col = 0; col < n; ++col) off[col] = s.column_state[col] == kColumnInvalid ? kInvalidEvent : off[col];
+    // Without branches, so that it vectorises (values 0, 1, 2); restrict:
+    // the stores could otherwise alias the state vector's own pointers.
+    std::uint8_t* __restrict off = off_plates_.data();
+    const std::uint8_t* __restrict state = s.column_state.data();
+    for (int col = 0; col < n; ++col) off[col] = state[col] == kColumnInvalid ? kInvalidEvent : off[col];
     // The events of both kinds in one pass (events_between counts one kind).
     if (!s.cols.empty()) {
       span_ = s.cols.back() - s.cols.front() - 1;
       const int c0 = s.cols.front() + 1, c1 = s.cols.back();
       if (c0 < c1 && off[c0] != 0) ++gone_[off[c0] - 1], ++events_[off[c0] - 1];
       int g1 = 0, g2 = 0, e1 = 0, e2 = 0;
-      for (int col = c0 + 1; col < c1; ++col) {
+      // Eight columns at a time in a 64-bit word: bit 0 of each byte is set
+      // for a point event (1), bit 1 for an invalid one (2); each count is
+      // the sum of the bytes' bits (a multiply adds the eight bytes, each 0
+      // or 1, into the top byte).
+      constexpr std::uint64_t kLow = 0x0101010101010101ull;
+      auto byte_sum = [](std::uint64_t bits) { return static_cast<int>((bits * kLow) >> 56); };
+      int col = c0 + 1;
+      for (; col + 8 <= c1; col += 8) {
+        std::uint64_t k, prev;
+        std::memcpy(&k, off + col, sizeof k);
+        std::memcpy(&prev, off + col - 1, sizeof prev);
+        const std::uint64_t k1 = k & kLow, k2 = (k >> 1) & kLow, p1 = prev & kLow, p2 = (prev >> 1) & kLow;
+        g1 += byte_sum(k1), g2 += byte_sum(k2);
+        e1 += byte_sum(k1 & ~p1), e2 += byte_sum(k2 & ~p2);
+      }
+      for (; col < c1; ++col) {
         const std::uint8_t k = off[col], prev = off[col - 1];
         g1 += k == kPointEvent, g2 += k == kInvalidEvent;
         e1 += (k == kPointEvent) & (prev != kPointEvent), e2 += (k == kInvalidEvent) & (prev != kInvalidEvent);
@@ -285,6 +304,8 @@ class Matcher {
   // cost() is 0 for distances up to this: found with cost()'s own arithmetic
   // (d / sigma_ and its square are monotonic in d), so the same.
   double zero_cost_d_ = -1.0;
+  // cost()'s bounds in squared sigmas: noise_k^2, and cap_sigma^2 (at least that).
+  double in2_ = 0.0, cap2_ = 0.0;
   // Columns between the first and last kept point, and the random events
   // among them and their columns (events_between).
   int span_ = 0, events_[2] = {0, 0}, gone_[2] = {0, 0};
@@ -439,10 +460,8 @@ class Matcher {
   // growing as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
   double cost(double d) const {
     if (std::abs(d) <= zero_cost_d_) return 0.0;  // within noise_k sigmas, without the division
-    const ConfidenceParams& cp = p_.confidence;
-    const double in2 = cp.noise_k * cp.noise_k, cap2 = std::max(cp.cap_sigma * cp.cap_sigma, in2);
     const double x = d / sigma_;
-    return x * x <= in2 ? 0.0 : 0.5 * (std::min(x * x, cap2) - in2);
+    return x * x <= in2_ ? 0.0 : 0.5 * (std::min(x * x, cap2_) - in2_);
   }
 
   // The cost of a random event of `cols` columns (a dropout run, a
@@ -2568,10 +2587,20 @@ class Matcher {
           auto value = [&](std::size_t k) { return hull[k].y() - slope * hull[k].x(); };
           // The hull is convex: climb from the last j's maximum (the
           // chords' slopes change little from one j to the next).
+          // (Each value once: the same arithmetic as evaluating it anew.)
           top = std::min(top, n_hull - 1);
-          while (top + 1 < n_hull && value(top + 1) > value(top)) ++top;
-          while (top > 0 && value(top - 1) > value(top)) --top;
-          if (value(top) + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
+          double v_top = value(top);
+          for (; top + 1 < n_hull; ++top) {
+            const double v = value(top + 1);
+            if (!(v > v_top)) break;
+            v_top = v;
+          }
+          for (; top > 0; --top) {
+            const double v = value(top - 1);
+            if (!(v > v_top)) break;
+            v_top = v;
+          }
+          if (v_top + kSlack < std::max(0.5 * du, 2.0 * tol_)) continue;
         }
         bool below = true;
         double deepest = 0.0;
@@ -2948,20 +2977,25 @@ class Matcher {
     const Vec2 u = ab / len;
     Vec2 n(-u.y(), u.x());
     if (n.dot(origin_ - a) < 0.0) n = -n;
-    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d aty = Eigen::Vector3d::Zero();
+    // The normal equations of the fit, x = (1, s, s^2): x x^T and x h summed
+    // (the symmetric matrix's six distinct entries, each the same product
+    // x_i x_j).
+    double s00 = 0.0, s01 = 0.0, s02 = 0.0, s11 = 0.0, s12 = 0.0, s22 = 0.0, t0 = 0.0, t1 = 0.0, t2 = 0.0;
     double lo = len, hi = 0.0;
     for (int i = from; i <= to; ++i) {
       const Vec2 q = pt(i);
       const double sa = (q - a).dot(u), h = (q - a).dot(n);
       if (sa <= 0.0 || sa >= len) continue;
-      const Eigen::Vector3d x(1.0, sa, sa * sa);
-      ata += x * x.transpose();
-      aty += x * h;
+      const double s2 = sa * sa;
+      s00 += 1.0, s01 += sa, s02 += s2, s11 += sa * sa, s12 += sa * s2, s22 += s2 * s2;
+      t0 += h, t1 += sa * h, t2 += s2 * h;
       ++rb.points;
       lo = std::min(lo, sa), hi = std::max(hi, sa);
     }
     if (rb.points < 4) return rb;
+    Eigen::Matrix3d ata;
+    ata << s00, s01, s02, s01, s11, s12, s02, s12, s22;
+    const Eigen::Vector3d aty(t0, t1, t2);
     rb.share = (hi - lo) / len;
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
     if (ldlt.info() != Eigen::Success) return rb;
