@@ -171,9 +171,9 @@ struct SharedScene {
   std::vector<double> dir_x, dir_y, dir_z;  // directions_d by component
   PreparedMesh mesh;
   double tan_half_fan = 0.0;
-  // How far out in NDC x (y/z over tan_half_fan) a segment is drawn: the
-  // target's columns and a pixel either side (emit); a triangle beyond it
-  // need not be cut (the hierarchy query's fan sides).
+  // How far out in NDC x (y/z over tan_half_fan) a triangle may reach and
+  // still be cut (the hierarchy query's fan sides): the target's columns and
+  // a pixel either side. emit() draws segments cut to NDC x in [-1, 1].
   double ndc_limit = 1.0;
   Eigen::Vector3d camera_mm = Eigen::Vector3d::Zero();  // camera centre, sensor frame
 };
@@ -904,13 +904,19 @@ class Worker {
     if (p0.y() < kNearClipMm && p1.y() < kNearClipMm) return;
     if (p0.y() < kNearClipMm) p0 = p0 + (kNearClipMm - p0.y()) / (p1.y() - p0.y()) * (p1 - p0);
     if (p1.y() < kNearClipMm) p1 = p1 + (kNearClipMm - p1.y()) / (p0.y() - p1.y()) * (p0 - p1);
-    // NDC x and reversed depth of the ends, cut to the target's columns and
-    // a pixel either side (depth is affine in x along the segment): a
-    // triangle reaching far beyond them is clipped by llvmpipe, which lost
-    // coverage of this thin one.
+    // NDC x and reversed depth of the ends, cut to the target's edges, x = -1
+    // and 1, half a pixel beyond the outer columns' centres (depth is affine
+    // in x along the segment). Every vertex then lies inside the clip volume,
+    // which keeps llvmpipe off its clipping path: a draw chunk holding one
+    // vertex outside went through the draw module's primitive pipeline, whose
+    // vertex-buffer flushes reset the ids of every vertex of the chunk (a
+    // quarter of the CPU of a million-triangle curved mesh, perf); and a
+    // triangle reaching far beyond the target, clipped there, lost coverage
+    // of this thin one. Cutting at -1 and 1 instead of a pixel beyond gave
+    // the same profiles, byte for byte (docs/PERFORMANCE.md, session 18).
     double x0 = p0.x() / p0.y() / s_.tan_half_fan, x1 = p1.x() / p1.y() / s_.tan_half_fan;
     double d0 = kNearClipMm / p0.y(), d1 = kNearClipMm / p1.y();
-    const double lim = s_.ndc_limit;
+    const double lim = 1.0;
     if ((x0 < -lim && x1 < -lim) || (x0 > lim && x1 > lim)) return;
     auto cut = [lim](double& xa, double& da, double xb, double db) {
       const double x = std::clamp(xa, -lim, lim);
