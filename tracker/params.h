@@ -343,8 +343,8 @@ struct ConfidenceParams {
   // is overconfident (readings stated 0.95-0.99 sure were false reads one
   // time in five on the corpus' development seeds). 2 is the maximum-
   // likelihood temperature there (docs/JOINTS.md "Calibration"); 1 is the
-  // raw posterior. The "not in view" term and TrackResult::strength are not
-  // divided.
+  // raw posterior (as is any value not above 0). The "not in view" term and
+  // TrackResult::strength are not divided.
   double temperature = 2.0;
   // Readings less sure than this are rejected ("weak" or "ambiguous").
   double min_confidence = 0.9;

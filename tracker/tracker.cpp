@@ -2353,15 +2353,15 @@ class Matcher {
     // wall, the groove's real wall then lying inside the "bottom".
     const double plate_level_mm = plate_level_run(bot_first, bot_last, top, along, low_v);
     // B3 in the groove's upper half on the way from one toe up to the other
-    // rests on a wall read as the bottom (a wall's piece or a plate top's
-    // noise taken for the other wall: 4-24 mm off at 0.05-0.2 mm noise).
+    // rests on a wall read as the bottom (a bump of a plate top taken for
+    // the other wall: 8.7-10.5 mm off at 0.2 mm noise).
     {
       const double d2 = depth_below(top, b2), d3 = depth_below(top, b3), d4 = depth_below(top, b4);
       if (low_v > 0.0 && d3 < gp.min_track_depth_share * low_v && d3 >= std::min(d2, d4) - tol_ &&
           d3 <= std::max(d2, d4) + tol_) {
         std::snprintf(c.reason, sizeof c.reason,
-                      "the track point lies %.3g mm below the tops, in the upper part of a groove %.3g mm deep, on "
-                      "the way from one toe (%.3g mm) up to the other (%.3g mm): a wall read as the bottom?",
+                      "the track point lies %.3g mm below the tops of a groove %.3g mm deep, between toes %.3g and "
+                      "%.3g mm deep: a wall read as the bottom?",
                       d3, low_v, std::max(d2, d4), std::min(d2, d4));
         c.track = b3;
         offer(c);
@@ -3156,7 +3156,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
     // Readings compared with each other (a rival, a step beyond the joint)
     // at the calibration's temperature; against "not in view" as they are.
-    const double tau = cp.temperature;
+    const double tau = cp.temperature > 0.0 ? cp.temperature : 1.0;
     double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
     m.for_each_rival(best, [&](const Vec2& track, double strength) {
       rivals += std::exp(std::min((strength - e) / tau, 700.0));

@@ -457,6 +457,14 @@ TEST_CASE("butt noisy: a run of 2 invalid columns on one line beats a reflection
   INFO(r.reason);
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK(r.confidence > calibrated.confidence);
+  // A temperature not above 0 (or NaN) is the raw posterior, never a NaN
+  // confidence that no min_confidence rejects.
+  for (const double t : {0.0, -2.0, std::numeric_limits<double>::quiet_NaN()}) {
+    params.confidence.temperature = t;
+    const auto rt = track(p, tk::JointType::Butt, params);
+    CHECK(rt.confidence == r.confidence);
+  }
+  params.confidence.temperature = 1.0;
   CHECK(std::abs(r.track_point->x() - 0.5 * (p.y[c - 1] + p.y[c + 2])) < s);
   CHECK(r.gap_mm == Approx(2.0 * s).margin(s));
   // Without the rule (a run never long enough) the cluster is still no gap:
