@@ -184,22 +184,23 @@ class Matcher {
       : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), off_plates_(off_plates), next_long_(next_long),
         origin_(p.segmentation.ray_origin_yz), tol_(p.surface_tol_mm),
         sigma_(std::max(p.surface_tol_mm / std::max(1.0, p.noise.surface_k), 1e-6)) {
+    // cost()'s bounds, and the distance up to which it is 0 found with its
+    // own arithmetic.
+    in2_ = p.confidence.noise_k * p.confidence.noise_k;
+    cap2_ = std::max(p.confidence.cap_sigma * p.confidence.cap_sigma, in2_);
+    {
+      const auto zero = [&](double d) {
+        const double x = d / sigma_;
+        return x * x <= in2_;
+      };
+      double d = std::sqrt(in2_) * sigma_;
+      for (int k = 0; k < 64 && std::isfinite(d) && !zero(d); ++k) d = std::nextafter(d, 0.0);
+      if (std::isfinite(d) && zero(d)) zero_cost_d_ = d;
+    }
     // Columns that look like a ray into a gap (events_between): invalid, or
     // a point (removed, or kept in a segment shorter than s_min) behind the
     // line of the nearer long segment beside it by more than the surface
     // tolerance.
-    in2_ = p.confidence.noise_k * p.confidence.noise_k;
-    cap2_ = std::max(p.confidence.cap_sigma * p.confidence.cap_sigma, in2_);
-    {
-      const double in2 = p.confidence.noise_k * p.confidence.noise_k;
-      const auto zero = [&](double d) {
-        const double x = d / sigma_;
-        return x * x <= in2;
-      };
-      double d = std::sqrt(in2) * sigma_;
-      for (int k = 0; k < 64 && std::isfinite(d) && !zero(d); ++k) d = std::nextafter(d, 0.0);
-      if (std::isfinite(d) && zero(d)) zero_cost_d_ = d;
-    }
     const int n = static_cast<int>(s.column_state.size());
     off_plates_.assign(n, 0);
     const int s_min = std::max(2, p.segmentation.segments.min_segment_points);

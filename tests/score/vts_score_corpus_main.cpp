@@ -110,12 +110,12 @@ int main(int argc, char** argv) {
   // --features FILE: one CSV line per profile (outcome, error, the reading's
   // confidence terms), to look for what separates false reads from right ones.
   FILE* features = features_path.empty() ? nullptr : std::fopen(features_path.c_str(), "w");
-  if (features)
+  if (features) {
     std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
                            "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason");
-  if (features)
     for (int k = 0; k < tk::kMaxBreakPoints; ++k) std::fprintf(features, ",b%dy,b%dz", k, k);
-  if (features) std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4\n");
+    std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4\n");
+  }
   std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
   // (joint, tag) -> profiles with it, and of them right / imprecise / rejected / false.
