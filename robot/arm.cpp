@@ -236,7 +236,8 @@ std::string_view to_string(IkStatus s) {
   return "?";
 }
 
-IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const Joints& near, const Limits& limits) {
+IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const Joints& near, const Limits& limits,
+                 bool continuous) {
   IkResult r;
   // The branch of the configuration is the one that has it, but at its
   // boundaries (singular poses) the flags are told by the joints: then
@@ -267,7 +268,7 @@ IkResult inverse(const ArmModel& m, const Pose3& t, const Config& config, const 
     const double shift = limited_value(m, r.q, i) - r.q[i];  // q2 for a coupled axis 3
     for (int k = -2; k <= 2; ++k) {
       const double v = r.q[i] + 2.0 * M_PI * k;
-      const bool inside = v + shift >= a.min_rad && v + shift <= a.max_rad;
+      const bool inside = continuous || (v + shift >= a.min_rad && v + shift <= a.max_rad);
       const double dist = std::abs(v - near[i]) + (inside ? 0.0 : 1e6);
       if (dist < best_d) {
         best_d = dist;

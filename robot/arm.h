@@ -105,9 +105,12 @@ struct IkResult {
 };
 // The solution of `config` nearest `near` (each wrist and base angle taken
 // modulo a full turn to the representative nearest `near` inside its
-// limits), checked against the limits and the singularity limits.
+// limits), checked against the limits and the singularity limits. With
+// `continuous` (a servo's next command), an angle whose nearest
+// representative lies outside its limits is a JointLimit: the axis would
+// have to unwind a full turn, not a step.
 IkResult inverse(const ArmModel& model, const Pose3& base_from_flange, const Config& config, const Joints& near,
-                 const Limits& limits = {});
+                 const Limits& limits = {}, bool continuous = false);
 
 // The absolute-accuracy model: a copy of `nominal` with each a, d drawn from
 // N(0, sigma_length_mm) and each joint zero from N(0, sigma_zero_rad), from

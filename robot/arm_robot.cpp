@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace vts::robot {
@@ -11,18 +13,42 @@ Pose3 flange_target(const ArmSetup& s, const Pose3& world_from_tool) {
   return s.world_from_base.inverse() * world_from_tool * s.flange_from_tool.inverse();
 }
 
-// The joints of the first configuration reaching the pose cleanly.
+// The joints reaching the pose cleanly with the most room to move: of every
+// configuration, and of the turns of axes 4 and 6 (each may take an angle
+// or that angle +- a full turn when its range allows), the one whose axis
+// nearest a limit, as a share of its range, is farthest from it (the first
+// such in inverse_all's order). A programmer starts a weld that turns the torch (a saddle) with
+// the wrist in the middle of its range, not at the end it would wind into.
 Joints start_joints(const ArmSetup& s, const Pose3& tcp, Config& config) {
   const Pose3 f = flange_target(s, tcp);
   std::string why = "no configuration reaches it";
+  std::optional<Joints> best;
+  double best_room = -1.0;
   for (const Solution& sol : inverse_all(s.nominal, f)) {
-    const IkResult r = inverse(s.nominal, f, sol.config, sol.q, s.limits);
-    if (r.status == IkStatus::Ok) {
-      config = sol.config;
-      return r.q;
-    }
-    why = r.message;
+    for (int turn4 = -1; turn4 <= 1; ++turn4)
+      for (int turn6 = -1; turn6 <= 1; ++turn6) {
+        Joints near = sol.q;
+        near[3] += 2.0 * M_PI * turn4;
+        near[5] += 2.0 * M_PI * turn6;
+        const IkResult r = inverse(s.nominal, f, sol.config, near, s.limits);
+        if (r.status != IkStatus::Ok) {
+          why = r.message;
+          continue;
+        }
+        double room = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < 6; ++i) {
+          const Axis& a = s.nominal.axes[static_cast<std::size_t>(i)];
+          const double v = limited_value(s.nominal, r.q, i);
+          room = std::min(room, std::min(v - a.min_rad, a.max_rad - v) / (a.max_rad - a.min_rad));
+        }
+        if (room > best_room + 1e-6) {
+          best_room = room;
+          best = r.q;
+          config = sol.config;
+        }
+      }
   }
+  if (best) return *best;
   const Eigen::Vector3d p = tcp.translation();
   throw std::invalid_argument("robot " + s.nominal.name + ": the start pose (" + std::to_string(p.x()) + ", " +
                               std::to_string(p.y()) + ", " + std::to_string(p.z()) + ") mm cannot be reached: " + why);
@@ -88,7 +114,7 @@ bool ArmRobot::advance(double t) {
     while (static_cast<int>(corrections_.size()) > s_.correction_delay_cycles + 1) corrections_.pop_front();
     cmd.translation() += corrections_.front();
     if (fault_.empty()) {
-      const IkResult r = inverse(s_.nominal, flange_target(s_, cmd), config_, q_cmd_, s_.limits);
+      const IkResult r = inverse(s_.nominal, flange_target(s_, cmd), config_, q_cmd_, s_.limits, true);
       if (r.status == IkStatus::Ok) {
         q_cmd_ = r.q;
       } else {

@@ -28,9 +28,12 @@ struct ArmSetup {
 
 class ArmRobot final : public Robot {
  public:
-  // The arm with its TCP at tcp_start (the first configuration, in the order
-  // of inverse_all, that reaches it within the limits); throws
-  // std::invalid_argument with the reason if none does.
+  // The arm with its TCP at tcp_start, in the configuration and turn of
+  // axes 4 and 6 that leaves every axis the most room (its axis nearest a
+  // limit, as a share of its range, farthest from it); throws
+  // std::invalid_argument with the reason if none reaches it. Servo
+  // commands then follow on continuously: an axis whose next angle lies
+  // outside its range faults (JointLimit), it never turns a full turn back.
   ArmRobot(const ArmSetup& setup, const Pose3& tcp_start);
   ArmRobot(const ArmRobot&) = delete;  // the servo refers to built_
   ArmRobot& operator=(const ArmRobot&) = delete;

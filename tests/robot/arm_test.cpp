@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "robot/arm.h"
+#include "robot/arm_robot.h"
 #include "robot/robots.h"
 #include "robot/servo.h"
 
@@ -231,4 +232,68 @@ TEST_CASE("ArmRobot: targets streamed at 20 Hz and advanced cycle by cycle are f
     CHECK(worst_across < 0.002);
     CHECK(worst_along < 0.05);  // 0.02 mm behind its command (0.06-0.23 mm with steps)
   }
+}
+
+TEST_CASE("Arm: a servo command never turns an axis a full turn back into its range", "[robot]") {
+  // KR 16, axis 4 in -350 .. 350: at 349 degrees, a pose needing 351 is
+  // reached at rest by -9 (the same pose). A start may take that
+  // representative; a servo's next command must not (the wrist would spin
+  // a full turn between two 4 ms cycles): it is a joint-limit fault.
+  const ArmModel m = *arm_preset("kr16");
+  const Joints here = deg(10.0, 30.0, 60.0, 349.0, 40.0, 20.0);
+  const Joints next = deg(10.0, 30.0, 60.0, 351.0, 40.0, 20.0);
+  const Pose3 target = forward(m, next);
+  const Solution own = [&] {
+    for (const Solution& s : inverse_all(m, target))
+      if (angle_diff(s.q[3], next[3]) < 1e-6 && angle_diff(s.q[4], next[4]) < 1e-6) return s;
+    FAIL("no solution of the pose has the joints it came from");
+    return Solution{};
+  }();
+  const IkResult at_rest = inverse(m, target, own.config, here, {}, false);
+  INFO(at_rest.message);
+  REQUIRE(at_rest.status == IkStatus::Ok);
+  CHECK(at_rest.q[3] / kDeg == Approx(-9.0).margin(1e-6));
+  const IkResult servo = inverse(m, target, own.config, here, {}, true);
+  CHECK(servo.status == IkStatus::JointLimit);
+  CHECK_THAT(servo.message, Contains("axis 4 would be at 351"));
+}
+
+TEST_CASE("ArmRobot: starts with every axis as far inside its range as the pose allows", "[robot]") {
+  // The KR 16's first pose on the saddle (vts sim --scenario saddle): the
+  // first configuration in inverse_all's order has axis 4 at -177 degrees,
+  // 3 % of its range from the limit the torch winds it into round the
+  // branch. The start takes, of every configuration and turn of axes 4 and
+  // 6, the one whose axis nearest a limit (as a share of its range) is
+  // farthest from it: here the wrist flipped, axis 4 near 3 degrees.
+  const ArmModel m = *arm_preset("kr16");
+  auto room_of = [&](const Joints& q) {
+    double room = 1.0;
+    for (int i = 0; i < 6; ++i) {
+      const Axis& a = m.axes[static_cast<std::size_t>(i)];
+      const double v = limited_value(m, q, i);
+      room = std::min(room, std::min(v - a.min_rad, a.max_rad - v) / (a.max_rad - a.min_rad));
+    }
+    return room;
+  };
+  const Joints first = deg(0.7, 23.3, 52.1, -177.1, 30.9, -93.0);
+  ArmSetup setup;
+  setup.nominal = m;
+  setup.flange_from_tool.translation() = Eigen::Vector3d(0.0, 0.0, kTorchMm);
+  const Pose3 home = forward(m, first) * setup.flange_from_tool;
+  REQUIRE(inverse_all(m, forward(m, first)).front().q.isApprox(first, 1e-9));
+  const ArmRobot robot(setup, home);
+  const Joints q = *robot.joints();
+  CHECK(robot.tcp().isApprox(home, 1e-9));
+  CHECK(q[3] / kDeg == Approx(-177.1 + 180.0).margin(0.01));
+  CHECK(q[4] / kDeg == Approx(-30.9).margin(0.01));
+  CHECK(room_of(q) > room_of(first));
+  // No solution or turn has more room.
+  for (const Solution& s : inverse_all(m, forward(m, first)))
+    for (int t4 = -1; t4 <= 1; ++t4)
+      for (int t6 = -1; t6 <= 1; ++t6) {
+        Joints v = s.q;
+        v[3] += 2.0 * M_PI * t4;
+        v[5] += 2.0 * M_PI * t6;
+        CHECK(room_of(v) <= room_of(q) + 1e-9);
+      }
 }
