@@ -42,6 +42,7 @@ constexpr NumberKey kCellKeys[] = {
     {"tack_length_mm", &SimCellParams::tack_length_mm},
     {"tack_leg_mm", &SimCellParams::tack_leg_mm},
     {"distortion_deg_per_100mm", &SimCellParams::distortion_deg_per_100mm},
+    {"lookahead_mm", &SimCellParams::lookahead_mm},
 };
 
 }  // namespace
@@ -53,8 +54,9 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
   std::vector<std::string> allowed = {"name", "description", "expect", "expect_reason", "seed", "robot",
                                       "robot_seed", "sensor", "material", "ideal", "rate_hz", "source",
                                       "speed_mm_s", "search_margin_mm", "weave_amplitude_mm",
-                                      "weave_frequency_hz", "weave_dwell_s"};
+                                      "weave_frequency_hz", "weave_dwell_s", "workpiece"};
   for (const auto& k : kCellKeys) allowed.emplace_back(k.key);
+  for (const auto& k : kSaddleParamNumbers) allowed.emplace_back(k.key);
   const Parser::Map m(p, Field{root, "", 1}, allowed);
   Scenario sc;
   sc.file = file_name;
@@ -78,6 +80,17 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
   s.cell.seed = s.seed;
   for (const auto& k : kCellKeys)
     if (auto x = m.get(k.key)) s.cell.*k.member = p.number(*x);
+  if (auto x = m.get("workpiece")) {
+    const std::string v = p.string(*x);
+    if (v == "box") s.cell.workpiece = SimWorkpiece::Box;
+    else if (v == "saddle") s.cell.workpiece = SimWorkpiece::Saddle;
+    else p.fail(*x, "workpiece = '" + v + "': expected box or saddle");
+  }
+  for (const auto& k : kSaddleParamNumbers)
+    if (auto x = m.get(k.key)) {
+      if (s.cell.workpiece != SimWorkpiece::Saddle) p.fail(*x, std::string(k.key) + ": only with workpiece: saddle");
+      s.cell.saddle.*k.member = p.number(*x);
+    }
   if (auto x = m.get("sensor")) {
     const std::string name = p.string(*x);
     const auto preset = sensor_preset(name);

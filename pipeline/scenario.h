@@ -17,6 +17,9 @@
 //     seam1_gap_rise_mm: 0
 //     seam1_short_mm: 0
 //     tack_spacing_mm: 0               # tack_first_mm, tack_length_mm, tack_leg_mm
+//     workpiece: box                   # box | saddle (main_radius_mm, branch_radius_mm, main_length_mm,
+//                                      #   branch_height_mm, cell_mm: sensor/saddle.h)
+//     lookahead_mm: 50                 # the laser plane ahead of the TCP
 //     robot: kr16                      # perfect | irb2400 | kr16
 //     robot_seed: 3
 //     sensor: mspot                    # a `vts sensors` preset; material, ideal, rate_hz

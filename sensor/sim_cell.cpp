@@ -64,6 +64,69 @@ std::pair<Vec3, Vec3> root_line(const Vec3& n, const Vec3& p, const Vec3& c0, co
   return {p0 + (c0 - p0).dot(u) * u, p0 + (c1 - p0).dot(u) * u};
 }
 
+// The saddle frame in the workpiece frame: lowered by the main pipe's radius.
+Pose workpiece_from_saddle(const SaddleParams& s) {
+  Pose m = Pose::Identity();
+  m.translation() = Vec3(0.0, 0.0, -s.main_radius_mm);
+  return m;
+}
+
+// The pipe saddle: the mesh where it actually lies; the two halves of the
+// curve C(t) as the plan, each led in by the curve before it, and as the
+// truth with the frames along it. As pipe joints are welded, both halves
+// start at the same crown (t = 0) and end at the other (t = +-pi): seam 1
+// for t from 0 up to pi, seam 2 from 0 down to -pi, the torch winding one
+// way and then back. The main pipe is the plate, the branch the wall.
+void build_saddle(SimCell& cell) {
+  const SimCellParams& p = cell.params;
+  const SaddleParams& sp = p.saddle;
+  const Pose ws = workpiece_from_saddle(sp);
+  cell.mesh = saddle_mesh(sp, cell.actual_world_from_workpiece * ws);
+  const double r = sp.branch_radius_mm;
+  // Points about 1 mm apart (|dC/dt| >= r); the lead-in lets the sensor
+  // measure the seam from lookahead + 15 mm before the weld's start, so
+  // that the local fit has points either side of it.
+  const double dt = 1.0 / r;
+  const double lead_in = p.lookahead_mm + 15.0;
+  const int n_half = static_cast<int>(std::ceil(std::numbers::pi / dt));
+  const int n_lead = static_cast<int>(std::ceil(lead_in / r / dt));
+  for (int k = 0; k < 2; ++k) {
+    const double sense = k == 0 ? 1.0 : -1.0;
+    tracker::SeamPlan plan;
+    SimSeamTruth truth;
+    double arc = 0.0;
+    Vec3 last;
+    for (int i = -n_lead; i <= n_half; ++i) {
+      const double t = sense * std::numbers::pi * i / n_half;
+      const SaddlePoint q = saddle_point(sp, t);
+      tracker::PathPoint pp;
+      pp.point = ws * q.root;
+      pp.plate_normal = ws.linear() * q.main_normal;
+      pp.wall_normal = ws.linear() * q.branch_normal;
+      if (i > -n_lead) arc += (pp.point - last).norm();
+      last = pp.point;
+      if (i == 0) plan.weld_from_mm = arc;
+      plan.path.push_back(pp);
+      if (i < 0) continue;
+      const SaddlePoint a = transformed(q, cell.actual_world_from_workpiece * ws);
+      truth.path.push_back(a.root);
+      truth.path_plate_normal.push_back(a.main_normal);
+      truth.path_lateral.push_back(a.main_side);
+    }
+    plan.start_mm = plan.path[static_cast<std::size_t>(n_lead)].point;
+    plan.end_mm = plan.path.back().point;
+    plan.plate_normal = plan.path[static_cast<std::size_t>(n_lead)].plate_normal;
+    plan.wall_normal = plan.path[static_cast<std::size_t>(n_lead)].wall_normal;
+    truth.start = truth.path.front();
+    truth.end = truth.path.back();
+    truth.plate_normal = truth.path_plate_normal.front();
+    const SaddlePoint a = transformed(saddle_point(sp, 0.0), cell.actual_world_from_workpiece * ws);
+    truth.wall_normal = a.branch_normal;
+    cell.plan.push_back(plan);
+    cell.truth.push_back(truth);
+  }
+}
+
 }  // namespace
 
 double SimSeamTruth::length() const {
@@ -115,6 +178,22 @@ std::string validate(const SimCellParams& p) {
     return field_error("tack_length_mm", p.tack_length_mm, "must be between 0 (exclusive) and 50 mm");
   if (!std::isfinite(p.tack_leg_mm) || p.tack_leg_mm <= 0.0 || p.tack_leg_mm > 15.0)
     return field_error("tack_leg_mm", p.tack_leg_mm, "must be between 0 (exclusive) and 15 mm");
+  if (p.workpiece == SimWorkpiece::Saddle) {
+    if (const std::string why = validate(p.saddle); !why.empty()) return why;
+    const std::pair<const char*, double> box_only[] = {
+        {"seam1_short_mm", p.seam1_short_mm},   {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
+        {"seam1_bow_mm", p.seam1_bow_mm},       {"seam1_wave_mm", p.seam1_wave_mm},
+        {"tack_spacing_mm", p.tack_spacing_mm}, {"distortion_deg_per_100mm", p.distortion_deg_per_100mm}};
+    for (const auto& [f, v] : box_only)
+      if (v != 0.0) return field_error(f, v, "is a disturbance of the box: must be 0 on the saddle");
+    // The laser plane, lookahead_mm ahead along the tangent, must still cut
+    // the branch near the seam: it cuts it asin(lookahead / r) further round.
+    if (p.lookahead_mm > 0.5 * p.saddle.branch_radius_mm)
+      return field_error("lookahead_mm", p.lookahead_mm,
+                         "must be at most half the saddle's branch radius (" +
+                             message_number(p.saddle.branch_radius_mm) + " mm): ahead along the tangent, the laser "
+                             "plane must still cross the curving seam");
+  }
   return {};
 }
 
@@ -132,6 +211,12 @@ SimCell build_sim_cell(const SimCellParams& p) {
   cell.actual_world_from_workpiece = p.nominal_world_from_workpiece * delta;
   cell.actual_world_from_workpiece.pretranslate(shift);
   const Pose& actual = cell.actual_world_from_workpiece;
+  cell.tool_from_laser = Pose::Identity();
+  cell.tool_from_laser.translation() = Vec3(p.lookahead_mm, 0.0, -p.standoff_mm);
+  if (p.workpiece == SimWorkpiece::Saddle) {
+    build_saddle(cell);
+    return cell;
+  }
 
   const double h = 0.5 * p.box_side_mm;
   // The master's model.
@@ -278,8 +363,6 @@ SimCell build_sim_cell(const SimCellParams& p) {
     t.plate_normal = m.linear() * t.plate_normal;
     t.wall_normal = m.linear() * t.wall_normal;
   }
-  cell.tool_from_laser = Pose::Identity();
-  cell.tool_from_laser.translation() = Vec3(p.lookahead_mm, 0.0, -p.standoff_mm);
   return cell;
 }
 
@@ -329,15 +412,25 @@ tracker::MasterParams sim_master_params(const SimCell& cell, double speed_mm_s, 
   m.control_rate_hz = rate_hz;
   m.lookahead_mm = p.lookahead_mm;
   // The first search must cover the largest displacement of a seam start:
-  // the offset plus the rotation's sweep at the box corner, plus 5 mm.
-  m.search_margin_mm =
-      p.offset_mm + std::sqrt(0.5) * p.box_side_mm * std::sin(p.rotation_deg * kDeg) + 5.0;
+  // the offset plus the rotation's sweep at the box corner (the saddle's
+  // seam: its farthest point from the workpiece origin), plus 5 mm.
+  const double reach = p.workpiece == SimWorkpiece::Saddle
+                           ? std::hypot(p.saddle.branch_radius_mm,
+                                        p.saddle.main_radius_mm -
+                                            std::sqrt(p.saddle.main_radius_mm * p.saddle.main_radius_mm -
+                                                      p.saddle.branch_radius_mm * p.saddle.branch_radius_mm))
+                           : std::sqrt(0.5) * p.box_side_mm;
+  m.search_margin_mm = p.offset_mm + reach * std::sin(p.rotation_deg * kDeg) + 5.0;
   return m;
 }
 
 PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp) {
   if (seam.path.size() >= 2) {
-    // The nearest point of the polyline; lateral across its local direction.
+    // The nearest point of the polyline. With frames along the path (the
+    // saddle), the errors in the frame there (interpolated between the
+    // points'); else lateral across the segment in the plate.
+    const bool frames = seam.path_lateral.size() == seam.path.size() &&
+                        seam.path_plate_normal.size() == seam.path.size();
     double best = std::numeric_limits<double>::infinity();
     PointError e;
     for (std::size_t i = 1; i < seam.path.size(); ++i) {
@@ -347,11 +440,20 @@ PointError seam_error(const SimSeamTruth& seam, const Vec3& tcp) {
       const double dist = (tcp - q).squaredNorm();
       if (dist >= best) continue;
       best = dist;
-      Vec3 lat = seam.plate_normal.cross(ab).normalized();
-      if (lat.dot(seam.lateral()) < 0.0) lat = -lat;
+      Vec3 n = seam.plate_normal, lat;
+      if (frames) {
+        const Vec3 d = ab.normalized();
+        n = (1.0 - f) * seam.path_plate_normal[i - 1] + f * seam.path_plate_normal[i];
+        n = (n - n.dot(d) * d).normalized();
+        lat = (1.0 - f) * seam.path_lateral[i - 1] + f * seam.path_lateral[i];
+        lat = (lat - lat.dot(d) * d - lat.dot(n) * n).normalized();
+      } else {
+        lat = seam.plate_normal.cross(ab).normalized();
+        if (lat.dot(seam.lateral()) < 0.0) lat = -lat;
+      }
       e.true_point = q;
       e.lateral_mm = (tcp - q).dot(lat);
-      e.vertical_mm = (tcp - q).dot(seam.plate_normal);
+      e.vertical_mm = (tcp - q).dot(n);
     }
     return e;
   }
@@ -406,11 +508,19 @@ std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResu
       ++m.samples;
     }
     double sp = 0.0;
+    int counted = 0;
     for (const Vec3& p : run.track_points) {
+      // On a curved seam, the points measured on the lead-in before its
+      // start or past its end are not on it.
+      const std::size_t np = truth.path.size();
+      if (np >= 2 && ((p - truth.path[0]).dot(truth.path[1] - truth.path[0]) < 0.0 ||
+                      (p - truth.path[np - 1]).dot(truth.path[np - 1] - truth.path[np - 2]) > 0.0))
+        continue;
       const PointError e = seam_error(truth, p);
       sp += e.lateral_mm * e.lateral_mm + e.vertical_mm * e.vertical_mm;
+      ++counted;
     }
-    if (!run.track_points.empty()) m.sensor_rms_mm = std::sqrt(sp / run.track_points.size());
+    if (counted > 0) m.sensor_rms_mm = std::sqrt(sp / counted);
     m.welded = run.start_found && m.samples > 0;
     if (m.samples > 0) {
       m.rms_lateral_mm = std::sqrt(sl / m.samples);

@@ -15,12 +15,24 @@
 
 #include "sensor/mesh.h"
 #include "sensor/pose.h"
+#include "sensor/saddle.h"
 #include "sensor/scanner.h"
 #include "tracker/master.h"
 
 namespace vts {
 
+// The part welded: the paper's box on a plate (two straight fillets), or a
+// pipe saddle (sensor/saddle.h: a branch pipe on a main pipe, the fillet
+// round their intersection welded in two halves, each from one crown over a
+// flank to the other crown).
+enum class SimWorkpiece { Box, Saddle };
+
 struct SimCellParams {
+  SimWorkpiece workpiece = SimWorkpiece::Box;
+  // The saddle's pipes (workpiece Saddle). Its workpiece frame is the saddle
+  // frame lowered by the main pipe's radius: the crowns at z = 0, where the
+  // box's plate top is.
+  SaddleParams saddle;
   double box_side_mm = 150.0;    // the box's square footprint
   double box_height_mm = 80.0;
   double plate_side_mm = 320.0;  // the bottom plate's square footprint
@@ -78,6 +90,11 @@ struct SimSeamTruth {
   // A curved seam: the root line as a polyline from start to end (points
   // 2 mm apart or closer, the wall flat between them); empty: the straight line.
   std::vector<Vec3> path;
+  // A seam whose surfaces turn along it (the saddle): at each path point the
+  // plate's normal and the lateral direction (in the plate, square to the
+  // seam, towards the open side); errors are taken in that frame. Empty:
+  // plate_normal, and the lateral across each segment in the plate.
+  std::vector<Vec3> path_plate_normal, path_lateral;
   Vec3 direction() const { return (end - start).normalized(); }
   double length() const;  // along the path
   // Across the seam in the plate, towards the open side (unit), of the chord.

@@ -286,6 +286,17 @@ Json CellHost::job_json() const {
     s["end_mm"] = to_json(p.end_mm);
     s["plate_normal"] = to_json(p.plate_normal);
     s["wall_normal"] = to_json(p.wall_normal);
+    if (!p.path.empty()) {
+      // A curved seam (the saddle): the root with its normals; the weld
+      // runs from weld_from_mm along it (tracker/master.h SeamPlan).
+      Json path = Json::array();
+      for (const tk::PathPoint& q : p.path)
+        path.push_back({{"point", to_json(q.point)},
+                        {"plate_normal", to_json(q.plate_normal)},
+                        {"wall_normal", to_json(q.wall_normal)}});
+      s["path"] = path;
+      s["weld_from_mm"] = p.weld_from_mm;
+    }
     seams.push_back(s);
   }
   const tk::MasterParams& m = box_->master;
@@ -342,6 +353,15 @@ Json CellHost::truth_json() const {
       Json path = Json::array();
       for (const Vec3& q : t.path) path.push_back(to_json(q));
       s["path"] = path;
+      if (t.path_lateral.size() == t.path.size() && t.path_plate_normal.size() == t.path.size()) {
+        Json lat = Json::array(), nrm = Json::array();
+        for (std::size_t i = 0; i < t.path.size(); ++i) {
+          lat.push_back(to_json(t.path_lateral[i]));
+          nrm.push_back(to_json(t.path_plate_normal[i]));
+        }
+        s["path_lateral"] = lat;
+        s["path_plate_normal"] = nrm;
+      }
     }
     seams.push_back(s);
   }

@@ -32,6 +32,11 @@ std::string mm_text(double v) {
   std::snprintf(buf, sizeof buf, "%.1f", v);
   return buf;
 }
+// The failure of a seam whose joint data lie `off` mm from its plan.
+std::string not_the_seam_planned(double off, double tolerance) {
+  return "the joint tracked lies " + mm_text(off) + " mm from the planned seam, more than the " + mm_text(tolerance) +
+         " mm the part may be displaced: not the seam planned";
+}
 }  // namespace
 
 double weave_unit(const MasterParams::Weave& w, double t) {
@@ -143,6 +148,103 @@ bool SeamObject::add(const Vec3& p, double window_mm, double gate_mm, int gate_a
     std::swap(points_[i], points_[i - 1]);
   }
   return true;
+}
+
+void CurveSeamObject::reset(const Vec3& direction_guess, double first_arc) {
+  guess_ = direction_guess.normalized();
+  first_arc_ = first_arc;
+  points_.clear();
+  arcs_.clear();
+}
+
+Vec3 CurveSeamObject::at(double s, double window_mm, Vec3* tangent) const {
+  if (points_.empty()) {
+    if (tangent) *tangent = guess_;
+    return Vec3::Zero();
+  }
+  const auto first = std::lower_bound(arcs_.begin(), arcs_.end(), s - window_mm);
+  const auto last = std::upper_bound(first, arcs_.end(), s + window_mm);
+  const std::size_t i0 = static_cast<std::size_t>(first - arcs_.begin());
+  const std::size_t i1 = static_cast<std::size_t>(last - arcs_.begin());
+  const std::size_t n = i1 - i0;
+  if (n >= 2 && arcs_[i1 - 1] - arcs_[i0] >= 1.0) {
+    // p(u) = a + b u (+ c u^2), u = arc - s, by least squares per coordinate.
+    const int m = n >= 5 && arcs_[i1 - 1] - arcs_[i0] >= 2.0 ? 3 : 2;
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero(), b = Eigen::Matrix3d::Zero();
+    for (std::size_t i = i0; i < i1; ++i) {
+      const double u = arcs_[i] - s;
+      const Vec3 phi(1.0, u, u * u);
+      a.topLeftCorner(m, m) += phi.head(m) * phi.head(m).transpose();
+      b.topRows(m) += phi.head(m) * points_[i].transpose();
+    }
+    const Eigen::MatrixXd x = a.topLeftCorner(m, m).ldlt().solve(b.topRows(m));
+    if (tangent) {
+      const Vec3 d = x.row(1).transpose();
+      *tangent = d.norm() > 1e-12 ? Vec3(d.normalized()) : guess_;
+    }
+    return x.row(0).transpose();
+  }
+  // Too few points near s: the nearest one.
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < arcs_.size(); ++i)
+    if (std::abs(arcs_[i] - s) < std::abs(arcs_[best] - s)) best = i;
+  if (tangent) {
+    const Vec3 d = points_.size() >= 2 ? Vec3(points_.back() - points_.front()) : guess_;
+    *tangent = d.norm() > 1e-9 ? Vec3(d.normalized()) : guess_;
+  }
+  return points_[best];
+}
+
+double CurveSeamObject::arc_of(const Vec3& p, double window_mm) const {
+  if (points_.empty()) return first_arc_;
+  if (points_.size() < 3 || arcs_.back() - arcs_.front() < 2.0)
+    return arcs_.front() + (p - points_.front()).dot(guess_);
+  // The step from the last point projected onto the fit's tangent there.
+  // (From the fit's end value instead, the arcs would drift: a quadratic
+  // fitted over one side of a circle's point misses it along the tangent by
+  // about window^3 / (120 R^2), 3 um a point for R = 50 mm, 0.6 % of the arc.)
+  Vec3 t;
+  at(arcs_.back(), window_mm, &t);
+  return arcs_.back() + (p - points_.back()).dot(t);
+}
+
+bool CurveSeamObject::add(const Vec3& p, double window_mm, double gate_mm, int gate_after) {
+  const double arc = arc_of(p, window_mm);
+  if (size() >= gate_after) {
+    if ((p - at(arc, window_mm)).norm() > gate_mm) return false;
+  } else if (!points_.empty()) {
+    const Vec3 r = p - points_.front();
+    if (off_line(r, guess_) > gate_mm + 0.2 * std::abs(r.dot(guess_))) return false;
+  }
+  points_.push_back(p);
+  arcs_.push_back(arc);
+  for (std::size_t i = arcs_.size() - 1; i > 0 && arcs_[i] < arcs_[i - 1]; --i) {
+    std::swap(arcs_[i], arcs_[i - 1]);
+    std::swap(points_[i], points_[i - 1]);
+  }
+  return true;
+}
+
+double CurveSeamObject::crossing(const Vec3& q, const Vec3& n, double window_mm, double from_arc) const {
+  const auto first = std::lower_bound(arcs_.begin(), arcs_.end(), from_arc);
+  for (auto it = first; it != arcs_.end(); ++it) {
+    if (it == arcs_.begin()) continue;
+    const std::size_t i = static_cast<std::size_t>(it - arcs_.begin());
+    const double d0 = (points_[i - 1] - q).dot(n), d1 = (points_[i] - q).dot(n);
+    if (!(d0 < 0.0 && d1 >= 0.0)) continue;
+    // Between the two points, then on the fit (Newton: d/ds of the signed
+    // distance is the tangent's part along n).
+    double s = arcs_[i - 1] + (arcs_[i] - arcs_[i - 1]) * (-d0 / (d1 - d0));
+    for (int k = 0; k < 4; ++k) {
+      Vec3 t;
+      const double f = (at(s, window_mm, &t) - q).dot(n);
+      const double df = t.dot(n);
+      if (std::abs(df) < 0.1) break;
+      s -= f / df;
+    }
+    return s;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 Eigen::Matrix3d tool_rotation(const Vec3& direction, const Vec3& plate_normal, const Vec3& wall_normal) {
@@ -265,10 +367,250 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     for (int i = 0; i < settle; ++i) tick(seam, Phase::Move, 0.0);
   };
 
+  // A curved seam (SeamPlan::path; see the class comment).
+  auto weld_path = [&](int k, const SeamPlan& plan, SeamRun& run) {
+    const std::size_t n = plan.path.size();
+    std::vector<Vec3> pt(n), pn(n), wn(n);
+    std::vector<double> arc(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      pt[i] = believed * plan.path[i].point;
+      pn[i] = believed.linear() * plan.path[i].plate_normal;
+      wn[i] = believed.linear() * plan.path[i].wall_normal;
+      if (i > 0) arc[i] = arc[i - 1] + (pt[i] - pt[i - 1]).norm();
+    }
+    struct PlanAt {
+      Vec3 p, t, np, nw;
+    };
+    // The plan at arc a (clamped to the path): linear between its points.
+    auto plan_at = [&](double a) {
+      const auto it = std::upper_bound(arc.begin(), arc.end(), a);
+      const std::size_t i = std::clamp<std::size_t>(static_cast<std::size_t>(it - arc.begin()), 1, n - 1);
+      const double l = arc[i] - arc[i - 1];
+      const double f = l > 0.0 ? std::clamp((a - arc[i - 1]) / l, 0.0, 1.0) : 0.0;
+      PlanAt r;
+      r.p = pt[i - 1] + f * (pt[i] - pt[i - 1]);
+      r.t = (pt[i] - pt[i - 1]).normalized();
+      r.np = ((1.0 - f) * pn[i - 1] + f * pn[i]).normalized();
+      r.nw = ((1.0 - f) * wn[i - 1] + f * wn[i]).normalized();
+      return r;
+    };
+    // The arc of the plan's point nearest to p, the path extended along
+    // its end tangents (arcs below 0 or beyond its end), and the distance.
+    auto plan_nearest = [&](const Vec3& p) {
+      constexpr double kInf = std::numeric_limits<double>::infinity();
+      double best = kInf, a = 0.0;
+      for (std::size_t i = 1; i < n; ++i) {
+        const Vec3 ab = pt[i] - pt[i - 1];
+        const double l2 = ab.squaredNorm();
+        const double f = l2 > 0.0 ? std::clamp((p - pt[i - 1]).dot(ab) / l2, i == 1 ? -kInf : 0.0,
+                                               i + 1 == n ? kInf : 1.0)
+                                  : 0.0;
+        const double d = (p - pt[i - 1] - f * ab).squaredNorm();
+        if (d < best) {
+          best = d;
+          a = arc[i - 1] + f * (arc[i] - arc[i - 1]);
+        }
+      }
+      return std::pair{a, std::sqrt(best)};
+    };
+    auto plan_arc_of = [&](const Vec3& p) { return plan_nearest(p).first; };
+    auto pose_of = [](const PlanAt& x, const Vec3& tangent, const Vec3& position) {
+      Pose3 pose = Pose3::Identity();
+      pose.linear() = tool_rotation(tangent, x.np, x.nw);
+      pose.translation() = position;
+      return pose;
+    };
+    const double a_from = std::clamp(plan.weld_from_mm, 0.0, arc.back());
+    const double a_end = arc.back();
+    const PlanAt xs = plan_at(a_from), xe = plan_at(a_end);
+
+    if (P.open_loop) {
+      // The same moves as with the sensor: to the lead-in, along it, then
+      // the weld along the plan.
+      const PlanAt x0 = plan_at(0.0);
+      move_to(k, pose_of(x0, x0.t, x0.p));
+      for (double a = 0.0; a < a_from - 1e-9;) {
+        a = std::min(a + step, a_from);
+        const PlanAt x = plan_at(a);
+        tool = pose_of(x, x.t, x.p);
+        tick(k, Phase::Approach, 0.0);
+      }
+      run.weld_start = tool.translation();
+      weave_t = 0.0;
+      double a = a_from;
+      while (a < a_end - 1e-9) {
+        a = std::min(a + step, a_end);
+        const PlanAt x = plan_at(a);
+        tool = pose_of(x, x.t, x.p);
+        tick(k, Phase::Weld, a - a_from);
+      }
+      run.weld_end = tool.translation();
+      run.welded_mm = a - a_from;
+      run.start_found = run.end_found = true;
+      run.start_point = xs.p;
+      run.end_point = xe.p;
+      return;
+    }
+
+    const PlanAt x0 = plan_at(0.0);
+    move_to(k, pose_of(x0, x0.t, x0.p));
+    if (!sensor.laser_on()) {
+      run.failure = "the laser did not come on: " + sensor.error();
+      return;
+    }
+    sensor.start_tracking();
+    const double w = P.fit_window_mm;
+    const double tolerance = P.plan_tolerance_mm > 0.0 ? P.plan_tolerance_mm : P.search_margin_mm;
+    CurveSeamObject obj;
+    obj.reset(x0.t);
+    std::int64_t last_index = -1;
+    bool stop = false;
+    std::vector<Vec3> rejected;  // joint data rejected in a row
+    auto poll = [&] {
+      const auto j = sensor.latest_joint(now);
+      if (!j || j->profile_index == last_index || stop) return;
+      last_index = j->profile_index;
+      const Vec3& p = j->track_point_world;
+      const double off = plan_nearest(p).second;
+      if (off > tolerance) {
+        run.failure = not_the_seam_planned(off, tolerance);
+        stop = true;
+        sensor.laser_off();
+        return;
+      }
+      // The first point: the guess is the plan's direction there (the
+      // sensor measures ahead of the torch, where the seam has turned).
+      if (obj.size() == 0) obj.reset(plan_at(plan_arc_of(p)).t);
+      if (obj.add(p, w, P.gate_mm, P.gate_after)) {
+        rejected.clear();
+        ++run.points;
+        run.track_points.push_back(p);
+        return;
+      }
+      ++run.rejected_points;
+      rejected.push_back(p);
+      if (static_cast<int>(rejected.size()) < P.refit_after_rejections) return;
+      // As many points in a row off the seam object, each near the last:
+      // the seam object went wrong, not the sensor. Start it again from
+      // them, its arcs continuing the old ones.
+      for (std::size_t i = 1; i < rejected.size(); ++i)
+        if ((rejected[i] - rejected[i - 1]).norm() > P.gate_mm + 4.0 * step) {
+          rejected.erase(rejected.begin(), rejected.begin() + static_cast<std::ptrdiff_t>(i));
+          return;
+        }
+      const double a = obj.arc_of(rejected.front(), w);
+      obj.reset((rejected.back() - rejected.front()).normalized(), a);
+      constexpr double kNoGate = std::numeric_limits<double>::infinity();
+      for (const Vec3& q : rejected) obj.add(q, w, kNoGate, P.gate_after);
+      run.track_points.insert(run.track_points.end(), rejected.begin(), rejected.end());
+      run.points += static_cast<int>(rejected.size());
+      run.rejected_points -= static_cast<int>(rejected.size());
+      ++run.refits;
+      rejected.clear();
+    };
+    auto handle = [&](const std::vector<Event>& ev) {
+      if (stop) return;
+      if (has(ev, Event::SeamLost)) {
+        run.lost = true;
+      } else if (has(ev, Event::StreamEnded)) {
+        run.failure = "the sensor stopped while tracking: " + sensor.error();
+      } else {
+        return;
+      }
+      stop = true;
+      sensor.laser_off();
+    };
+
+    // Along the plan to the weld's start while the sensor measures ahead.
+    for (double a = 0.0; a < a_from - 1e-9 && run.failure.empty() && !stop;) {
+      a = std::min(a + step, a_from);
+      const PlanAt x = plan_at(a);
+      tool = pose_of(x, x.t, x.p);
+      const std::vector<Event> ev = tick(k, Phase::Approach, 0.0);
+      poll();
+      handle(ev);
+    }
+    if (!run.failure.empty() || stop) {
+      if (run.failure.empty()) run.failure = "the sensor lost the seam before the weld's start";
+      run.lost = false;
+      return;
+    }
+    const double s0 = obj.crossing(xs.p, xs.t, w, -std::numeric_limits<double>::infinity());
+    if (std::isnan(s0)) {
+      run.failure = "the measured seam does not reach the plane of the planned start";
+      return;
+    }
+    run.start_found = true;
+    Vec3 t0;
+    run.start_point = obj.at(s0, w, &t0);
+    // To the measured start.
+    for (int c = 0; run.failure.empty(); ++c) {
+      const Vec3 to = run.start_point - tool.translation();
+      tool.linear() = tool_rotation(t0, xs.np, xs.nw);
+      const bool there = to.norm() <= step;
+      tool.translation() = there ? run.start_point : Vec3(tool.translation() + step * to.normalized());
+      const std::vector<Event> ev = tick(k, Phase::Approach, 0.0);
+      poll();
+      handle(ev);
+      if (there) break;
+      if (c > 10000) run.failure = "the approach to the start point did not converge";
+    }
+
+    // Weld along the measured seam to the plane of the planned end.
+    run.weld_start = tool.translation();
+    weave_t = 0.0;
+    double s = s0, s_end = std::numeric_limits<double>::quiet_NaN();
+    const double length = a_end - a_from;
+    while (run.failure.empty()) {
+      if (std::isnan(s_end)) s_end = obj.crossing(xe.p, xe.t, w, s);
+      const double s_stop = !std::isnan(s_end) ? s_end : stop ? obj.max_arc() : std::numeric_limits<double>::infinity();
+      if (s >= s_stop - 1e-9) break;
+      const double s_next = std::min(s + step, s_stop);
+      if (s_next > obj.max_arc() + 1e-9) {
+        run.failure = "the torch caught up with the sensor data at s = " + mm_text(s - s0) + " mm";
+        break;
+      }
+      if (s - s0 > 2.0 * length + 50.0) {
+        run.failure = "no end of seam within twice the planned length";
+        break;
+      }
+      s = s_next;
+      Vec3 tangent;
+      const Vec3 p = obj.at(s, w, &tangent);
+      tool = pose_of(plan_at(plan_arc_of(p)), tangent, p);
+      const std::vector<Event> ev = tick(k, Phase::Weld, s - s0);
+      poll();
+      handle(ev);
+    }
+    run.end_found = run.failure.empty() && !std::isnan(s_end) && s >= s_end - 1e-9;
+    if (run.end_found) {
+      run.end_point = obj.at(s_end, w);
+      run.lost = false;
+    }
+    run.weld_end = tool.translation();
+    run.welded_mm = s - s0;
+    run.line_point = run.start_point;
+    run.line_direction = t0;
+
+    if (P.recalibrate && run.end_found && run.failure.empty() && !run.track_points.empty()) {
+      // The mean offset of the joint points from the plan.
+      Vec3 shift = Vec3::Zero();
+      for (const Vec3& q : run.track_points) shift += q - plan_at(plan_arc_of(q)).p;
+      believed.pretranslate(shift / static_cast<double>(run.track_points.size()));
+      recalibrated = true;
+    }
+  };
+
   for (int k = 0; k < static_cast<int>(seams.size()); ++k) {
     res.world_from_workpiece.push_back(believed);
     SeamRun run;
     const SeamPlan& plan = seams[k];
+    if (!plan.path.empty()) {
+      weld_path(k, plan, run);
+      if (sensor.state() != SensorState::Idle) sensor.laser_off();
+      res.seams.push_back(run);
+      continue;
+    }
     const Vec3 s_plan = believed * plan.start_mm, e_plan = believed * plan.end_mm;
     const Vec3 d_plan = (e_plan - s_plan).normalized();
     const double length = (e_plan - s_plan).norm();
@@ -378,8 +720,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
       {
         const double off = off_line(j->track_point_world - s_plan, d_plan);
         if (off > tolerance) {
-          run.failure = "the joint tracked lies " + mm_text(off) + " mm from the planned seam, more than the " +
-                        mm_text(tolerance) + " mm the part may be displaced: not the seam planned";
+          run.failure = not_the_seam_planned(off, tolerance);
           stop_point = last_accepted;
           sensor.laser_off();
           return;

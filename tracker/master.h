@@ -25,12 +25,27 @@ namespace vts::tracker {
 
 using Vec3 = Eigen::Vector3d;
 
+// A point of a curved seam's plan: the root and the two surfaces' normals
+// there (workpiece frame).
+struct PathPoint {
+  Vec3 point = Vec3::Zero();
+  Vec3 plate_normal = Vec3::UnitZ();
+  Vec3 wall_normal = -Vec3::UnitY();
+};
+
 // A fillet seam of the master's model, workpiece frame.
 struct SeamPlan {
   Vec3 start_mm = Vec3::Zero();
   Vec3 end_mm = Vec3::UnitX();
   Vec3 plate_normal = Vec3::UnitZ();  // unit: bottom plate (flange) surface, out of the material
   Vec3 wall_normal = -Vec3::UnitY();  // unit: wall (web) surface on the open side, out of the material
+  // A curved seam (e.g. half of a pipe saddle), when not empty: the root as
+  // points at most a few mm apart with their normals. The weld runs from
+  // arc length weld_from_mm along the path to its end; the path before that
+  // is the approach, along which the sensor measures the seam ahead of the
+  // torch. start_mm .. end_mm are then not used. See Master.
+  std::vector<PathPoint> path;
+  double weld_from_mm = 0.0;
 };
 
 struct MasterParams {
@@ -159,11 +174,48 @@ class SeamObject {
  private:
   Vec3 origin_ = Vec3::Zero();
   Vec3 guess_ = Vec3::UnitX();
+  double first_arc_ = 0.0;
   std::vector<Vec3> points_;  // sorted by arcs_
   std::vector<double> arcs_;  // arc length of each point when it was added
   double span_ = 0.0;         // largest distance of a point from the origin
   Vec3 sum_ = Vec3::Zero();  // of (point - origin)
   Eigen::Matrix3d sum_outer_ = Eigen::Matrix3d::Zero();
+};
+
+// The measured seam of a curved plan: joint points in world, each at an arc
+// length along the points before it (the projection onto the seam's local
+// fit), and the seam at arc s from a local quadratic fit of the points
+// within s +- a window: on a circle of radius 50 mm a line fit over +-10 mm
+// is 0.3 mm inside the arc, a quadratic 0.01 mm.
+class CurveSeamObject {
+ public:
+  // `direction_guess`: the planned travel direction at the first point;
+  // the first point's arc is first_arc.
+  void reset(const Vec3& direction_guess, double first_arc = 0.0);
+  // The arc a new point p would get.
+  double arc_of(const Vec3& p, double window_mm) const;
+  // Adds a measured point unless, once gate_after points exist, it lies more
+  // than gate_mm from the fit's prediction at its arc (before: more than
+  // gate_mm + 0.2 arc off the line from the first point along the guess).
+  bool add(const Vec3& p, double window_mm, double gate_mm, int gate_after);
+  int size() const { return static_cast<int>(points_.size()); }
+  double max_arc() const { return arcs_.empty() ? 0.0 : arcs_.back(); }
+  // The seam at arc s and its unit tangent there: least squares of
+  // p(u) = a + b u + c u^2 over the points with |arc - s| <= window_mm
+  // (u = arc - s): a and b / |b|; a line with fewer than 5 points or a span
+  // under 2 mm, the nearest point with fewer than 2.
+  Vec3 at(double s, double window_mm, Vec3* tangent = nullptr) const;
+  // The arc at which the seam crosses the plane through q square to the
+  // unit n from its back (n . (p - q) < 0) to its front: the first such
+  // crossing at or after from_arc; NaN if the points do not reach it.
+  double crossing(const Vec3& q, const Vec3& n, double window_mm, double from_arc) const;
+  const std::vector<Vec3>& points() const { return points_; }
+
+ private:
+  Vec3 guess_ = Vec3::UnitX();
+  double first_arc_ = 0.0;
+  std::vector<Vec3> points_;  // sorted by arcs_
+  std::vector<double> arcs_;
 };
 
 // The tool orientation for a seam: x along `direction`, z into the joint
@@ -177,6 +229,18 @@ Eigen::Matrix3d tool_rotation(const Vec3& direction, const Vec3& plate_normal, c
 Pose3 recalibrate(const Pose3& believed_world_from_workpiece, const SeamPlan& seam, const Vec3& start,
                   const Vec3& end, const Vec3& measured_plate_normal, const Vec3& measured_wall_normal);
 
+// A straight seam (SeamPlan without a path) is searched for its start,
+// welded along the seam object and ended where the sensor finds its end.
+// A curved seam (SeamPlan::path) is not searched: a closed seam (a saddle)
+// has no start to find. The tool moves to the path's first point, the
+// laser comes on and tracks while the tool travels the planned path up to
+// weld_from_mm; the weld starts where the measured seam crosses the plane
+// square to the path there, follows the measured seam (CurveSeamObject),
+// the torch along its tangent and turned about it by the planned normals
+// nearest the torch, and ends where the measured seam crosses the plane
+// square to the path at its end. Re-calibration after a curved seam shifts
+// the believed pose by the mean offset of the accepted joint points from
+// the planned path (a translation; the turn is not estimated).
 class Master {
  public:
   explicit Master(const MasterParams& params = {}) : params_(params) {}

@@ -57,7 +57,7 @@ SimView run_sim_for_view(std::uint64_t seed, const std::string& sensor, const st
   const double h = 0.5 * spec.cell.box_side_mm;
 
   auto cell = std::make_shared<Cell>();
-  cell->name = "sim-box";
+  cell->name = spec.cell.workpiece == SimWorkpiece::Saddle ? "sim-saddle" : "sim-box";
   cell->scanner = run.scanner;
   // The part as built (bowed wall, tacks), a mesh workpiece in world.
   Workpiece part;
@@ -73,6 +73,7 @@ SimView run_sim_for_view(std::uint64_t seed, const std::string& sensor, const st
   w2.world_from_joint = sim.actual_world_from_workpiece * Eigen::Translation3d(h, -h, 0.0) *
                         Eigen::AngleAxisd(0.5 * std::numbers::pi, Vec3::UnitZ());
   cell->workpieces = {w1, w2, part};
+  if (spec.cell.workpiece == SimWorkpiece::Saddle) cell->workpieces = {part};  // its seams: the paths below
   for (const SimSeamTruth& t : sim.truth)
     if (!t.path.empty()) view.seam_paths.push_back(t.path);
   view.samples = std::move(run.result.samples);

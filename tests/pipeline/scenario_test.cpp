@@ -230,6 +230,9 @@ TEST_CASE("scenario files: bad values name the file, line and key", "[sim]") {
   CHECK(error_of("colour: red\n").find("s.yaml:1: colour") == 0);
   CHECK(error_of("weave_frequency_hz: 1\nweave_dwell_s: 0.5\n").find("s.yaml:2: weave_dwell_s") == 0);
   CHECK(error_of("").find("empty scenario") != std::string::npos);
+  CHECK(error_of("workpiece: cylinder\n") == "s.yaml:1: workpiece: workpiece = 'cylinder': expected box or saddle");
+  CHECK(error_of("main_radius_mm: 150\n").find("s.yaml:1: main_radius_mm: main_radius_mm: only with workpiece: saddle") == 0);
+  CHECK(error_of("workpiece: saddle\nbranch_radius_mm: 120\n").find("branch_radius_mm") != std::string::npos);
   CHECK_THROWS_AS(builtin_scenario("no-such"), ScenarioError);
   CHECK_THROWS_AS(load_scenario("/nonexistent/x.yaml"), ScenarioError);
 }
@@ -278,4 +281,71 @@ TEST_CASE("master: a joint tracked farther from the plan than the part may be di
   CHECK(m.failure.find("not the seam planned") != std::string::npos);
   CHECK(m.welded_mm < 1.0);
   CHECK(m.max_error_mm < 1.0);
+}
+
+TEST_CASE("sim cell: the saddle's plan and truth lie on both pipes, in the main pipe's frame", "[sim]") {
+  SimCellParams p;
+  p.workpiece = SimWorkpiece::Saddle;
+  p.lookahead_mm = 20.0;
+  p.seed = 7;
+  REQUIRE(validate(p).empty());
+  const SimCell cell = build_sim_cell(p);
+  const double R = p.saddle.main_radius_mm, r = p.saddle.branch_radius_mm;
+  REQUIRE(cell.plan.size() == 2);
+  REQUIRE(cell.truth.size() == 2);
+  // The saddle frame: the workpiece frame raised by R (the crowns at z = 0).
+  auto in_saddle = [&](const Pose& world_from_workpiece, const Vec3& world) {
+    return Vec3(world_from_workpiece.inverse() * world + Vec3(0.0, 0.0, R));
+  };
+  for (int k = 0; k < 2; ++k) {
+    INFO("seam " << k + 1);
+    const auto& plan = cell.plan[static_cast<std::size_t>(k)];
+    REQUIRE(plan.path.size() > 150);
+    for (const auto& q : plan.path) {
+      const Vec3 s = q.point + Vec3(0.0, 0.0, R);
+      CHECK(std::hypot(s.x(), s.y()) == Approx(r).margin(1e-9));  // on the branch
+      CHECK(std::hypot(s.y(), s.z()) == Approx(R).margin(1e-9));  // on the main pipe
+      CHECK((q.plate_normal - Vec3(0.0, s.y(), s.z()) / R).norm() < 1e-9);
+      CHECK((q.wall_normal - Vec3(s.x(), s.y(), 0.0) / r).norm() < 1e-9);
+    }
+    // Both halves run from the crown at t = 0 (x = r, y = 0) over a flank
+    // (seam 1 y > 0, seam 2 y < 0) to the other crown.
+    const Vec3 start = plan.start_mm + Vec3(0.0, 0.0, R), end = plan.end_mm + Vec3(0.0, 0.0, R);
+    CHECK((start - Vec3(r, 0.0, R)).norm() < 1e-9);
+    CHECK((end - Vec3(-r, 0.0, R)).norm() < 1e-9);
+    const Vec3 mid = plan.path[plan.path.size() / 2 + 20].point;
+    CHECK(mid.y() * (k == 0 ? 1.0 : -1.0) > 0.5 * r);
+    // Its lead-in: lookahead + 15 mm of the curve before the start.
+    CHECK(plan.weld_from_mm == Approx(p.lookahead_mm + 15.0).margin(1.0));
+    const SimSeamTruth& t = cell.truth[static_cast<std::size_t>(k)];
+    REQUIRE(t.path_lateral.size() == t.path.size());
+    REQUIRE(t.path_plate_normal.size() == t.path.size());
+    for (std::size_t i = 0; i < t.path.size(); ++i) {
+      const Vec3 s = in_saddle(cell.actual_world_from_workpiece, t.path[i]);
+      CHECK(std::hypot(s.x(), s.y()) == Approx(r).margin(1e-6));
+      CHECK(std::hypot(s.y(), s.z()) == Approx(R).margin(1e-6));
+      const Eigen::Matrix3d rot = cell.actual_world_from_workpiece.linear();
+      CHECK((t.path_plate_normal[i] - rot * Vec3(0.0, s.y(), s.z()) / R).norm() < 1e-6);
+      // The lateral: in the main pipe's surface, square to the seam, away
+      // from the branch.
+      const Vec3 lat = rot.transpose() * t.path_lateral[i];
+      CHECK(lat.dot(Vec3(0.0, s.y(), s.z())) == Approx(0.0).margin(1e-9));
+      CHECK(lat.dot(Vec3(s.x(), s.y(), 0.0)) > 0.0);
+      if (i > 0) CHECK(std::abs(t.path_lateral[i].dot((t.path[i] - t.path[i - 1]).normalized())) < 0.02);
+    }
+    // Errors in that frame: a point moved from a path point by a along the
+    // lateral and b along the normal reads (a, b).
+    const std::size_t i = t.path.size() / 3;
+    const PointError e = seam_error(t, t.path[i] + 0.3 * t.path_lateral[i] - 0.2 * t.path_plate_normal[i]);
+    CHECK(e.lateral_mm == Approx(0.3).margin(1e-3));
+    CHECK(e.vertical_mm == Approx(-0.2).margin(1e-3));
+  }
+  // The box's disturbances are refused on the saddle, naming the field; the
+  // look-ahead must leave the laser plane crossing the curving seam.
+  SimCellParams bad = p;
+  bad.seam1_bow_mm = 3.0;
+  CHECK(validate(bad).find("seam1_bow_mm = 3") == 0);
+  bad = p;
+  bad.lookahead_mm = 50.0;
+  CHECK(validate(bad).find("lookahead_mm = 50") == 0);
 }

@@ -380,3 +380,53 @@ TEST_CASE("tool rotation: x along the seam and z into the joint", "[master]") {
   CHECK((r.col(0) - Vector3d::UnitX()).norm() < 1e-12);
   CHECK((r.col(2) - Vector3d(0.0, 1.0, -1.0).normalized()).norm() < 1e-12);
 }
+
+TEST_CASE("curve seam object: a circle of radius 50 mm, points 0.5 mm apart with +-0.05 mm zig-zag, is followed to 0.02 mm",
+          "[master]") {
+  // A circle in a tilted plane: the seam at arc s is c + R (cos(s/R) u + sin(s/R) v).
+  constexpr double R = 50.0;
+  const Vector3d c(10.0, -20.0, 5.0);
+  const Vector3d u = Vector3d(1.0, 0.0, 0.2).normalized();
+  const Vector3d v = Vector3d::UnitY();
+  auto seam_at = [&](double s) { return Vector3d(c + R * (std::cos(s / R) * u + std::sin(s / R) * v)); };
+  auto tangent_at = [&](double s) { return Vector3d(-std::sin(s / R) * u + std::cos(s / R) * v); };
+  tk::CurveSeamObject seam;
+  seam.reset(tangent_at(0.0));
+  // Half a turn (157 mm); the zig-zag alternates across the seam in the plane
+  // and out of it.
+  const int n = 314;
+  for (int i = 0; i <= n; ++i) {
+    const double s = 0.5 * i;
+    const Vector3d across = (seam_at(s) - c).normalized();
+    const Vector3d out = u.cross(v);
+    const double noise = (i % 2 ? 0.05 : -0.05);
+    REQUIRE(seam.add(seam_at(s) + noise * ((i / 2) % 2 ? across : out), 10.0, 1.0, 10));
+    if (i >= 40 && i % 10 == 0) {
+      INFO("i = " << i);
+      // The arcs follow the true arc length to 0.5 %: they are sums of steps
+      // projected onto the fit's tangent, which leans towards the last
+      // point's noise (they only order the points; positions come from the fit).
+      CHECK(seam.max_arc() == Approx(s).epsilon(0.005));
+      for (double back : {0.0, 5.0, 10.0}) {
+        Vector3d t;
+        const Vector3d p = seam.at(seam.max_arc() - back, 10.0, &t);
+        // Distance from the circle: across the true seam, not along it.
+        const Vector3d r = p - c;
+        const Vector3d in_plane = r - r.dot(u.cross(v)) * u.cross(v);
+        CHECK(std::hypot(in_plane.norm() - R, r.dot(u.cross(v))) < 0.02);
+        const double s_true = std::atan2(in_plane.dot(v), in_plane.dot(u)) * R;
+        CHECK(t.dot(tangent_at(s_true)) > std::cos(0.5 * std::numbers::pi / 180.0));
+      }
+    }
+  }
+  // (A line fitted over +-10 mm sits 100 / (6 R) = 0.33 mm inside the
+  // circle at the window's middle.) An outlier 2 mm off is gated out; the
+  // plane square to the seam at s = 120 is crossed there.
+  const Vector3d off = seam_at(100.0) + 2.0 * (seam_at(100.0) - c).normalized();
+  CHECK_FALSE(seam.add(off, 10.0, 1.0, 10));
+  const double s_cross = seam.crossing(seam_at(120.0), tangent_at(120.0), 10.0, 0.0);
+  CHECK(s_cross == Approx(120.0).epsilon(0.005));
+  CHECK((seam.at(s_cross, 10.0) - seam_at(120.0)).norm() < 0.02);
+  // Not reached: NaN.
+  CHECK(std::isnan(seam.crossing(seam_at(200.0), tangent_at(200.0), 10.0, 0.0)));
+}
