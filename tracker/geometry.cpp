@@ -1,8 +1,11 @@
 #include "tracker/geometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numbers>
+
+#include <Eigen/Eigenvalues>
 
 namespace vts::tracker {
 
@@ -80,6 +83,63 @@ double angle_between_deg(const Vec2& u, const Vec2& v) {
   if (!(nu > 0.0) || !(nv > 0.0)) return std::numeric_limits<double>::quiet_NaN();
   const double cosine = std::clamp(u.dot(v) / (nu * nv), -1.0, 1.0);
   return std::acos(cosine) * 180.0 / std::numbers::pi;
+}
+
+LineCov line_cov(const Line& line, const Moments& m, double sigma2) {
+  LineCov lc;
+  lc.mean = m.mean;
+  lc.n = line.n;
+  const Vec2 d = line.direction();
+  const double spread = d.x() * d.x() * m.syy + 2.0 * d.x() * d.y() * m.syz + d.y() * d.y() * m.szz;
+  lc.var_offset = m.count > 0 ? sigma2 / m.count : std::numeric_limits<double>::infinity();
+  lc.var_angle = spread > 0.0 ? sigma2 / spread : std::numeric_limits<double>::infinity();
+  return lc;
+}
+
+double residual_variance(const Line& line, const Moments& m, double prior_var, double prior_dof) {
+  const Vec2& n = line.n;
+  const double off = line.signed_distance(m.mean);
+  const double rss = n.x() * n.x() * m.syy + 2.0 * n.x() * n.y() * m.syz + n.y() * n.y() * m.szz + m.count * off * off;
+  const double dof = m.count - 2 + prior_dof;
+  if (!(dof > 0.0)) return prior_var;
+  return (std::max(rss, 0.0) + prior_dof * prior_var) / dof;
+}
+
+Eigen::Matrix2d intersection_cov(const LineCov& a, const LineCov& b, const Vec2& x) {
+  // n_a . x = c_a, n_b . x = c_b: a shift of each line along its normal by
+  // da, db moves x by N^-1 (da, db), N's rows the normals.
+  Eigen::Matrix2d nn;
+  nn << a.n.x(), a.n.y(), b.n.x(), b.n.y();
+  const double det = nn.determinant();
+  if (!(std::abs(det) > 1e-12)) return Eigen::Matrix2d::Constant(std::numeric_limits<double>::infinity());
+  const Eigen::Matrix2d inv = nn.inverse();
+  return inv * Eigen::Vector2d(a.across_var(x), b.across_var(x)).asDiagonal() * inv.transpose();
+}
+
+double prob_outside_circle(const Eigen::Matrix2d& cov, double r) {
+  if (!cov.allFinite()) return 1.0;
+  if (!(r > 0.0)) return 1.0;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(0.5 * (cov + cov.transpose()));
+  const double l1 = std::max(es.eigenvalues()(1), 0.0), l2 = std::max(es.eigenvalues()(0), 0.0);
+  if (l1 <= 0.0) return 0.0;
+  // e = sqrt(l1) z1 u1 + sqrt(l2) z2 u2, z standard normal: P(|e| <= r) is
+  // the integral over |z1| <= a = r / sqrt(l1) of phi(z1) P(|z2| <= h(z1)),
+  // h = sqrt((r^2 - l1 z1^2) / l2); with z1 = a sin t it is smooth in t
+  // (Simpson's rule over t in [0, pi / 2], the integrand symmetric in z1;
+  // a at most 9: phi beyond is below 1e-17).
+  const double a = std::min(r / std::sqrt(l1), 9.0);
+  const int n = 64;  // even
+  const double h = 0.5 * std::numbers::pi / n;
+  double sum = 0.0;
+  for (int k = 0; k <= n; ++k) {
+    const double t = k * h, z = a * std::sin(t);
+    const double rest = std::max(r * r - l1 * z * z, 0.0);
+    const double inner = l2 > 0.0 ? std::erf(std::sqrt(rest / (2.0 * l2))) : 1.0;
+    const double f = std::exp(-0.5 * z * z) * inner * a * std::cos(t);
+    sum += f * (k == 0 || k == n ? 1.0 : (k % 2 ? 4.0 : 2.0));
+  }
+  const double inside = 2.0 * sum * h / 3.0 / std::sqrt(2.0 * std::numbers::pi);
+  return std::clamp(1.0 - inside, 0.0, 1.0);
 }
 
 }  // namespace vts::tracker

@@ -5,6 +5,8 @@
 #include <optional>
 #include <span>
 
+#include <Eigen/Core>
+
 #include "tracker/types.h"
 
 namespace vts::tracker {
@@ -54,6 +56,42 @@ std::optional<LineFit> fit_line(std::span<const Vec2> points);
 // Intersection of two lines; empty when the sine of the angle between them is
 // below min_sin (parallel or nearly so).
 std::optional<Vec2> intersect(const Line& a, const Line& b, double min_sin = 1e-6);
+
+// How precisely a least-squares line is known (docs/JOINTS.md
+// "Localization"): for N points whose distances from the true line are
+// independent with variance sigma^2, the fitted line's offset at the points'
+// mean and its direction are independent, with variances sigma^2 / N (mm^2)
+// and sigma^2 / S (rad^2), S = sum (u - u_mean)^2 the points' spread along
+// the line (mm^2). Across itself the line is then known at a point whose
+// foot lies u from the mean to sigma^2 (1 / N + u^2 / S).
+struct LineCov {
+  Vec2 mean = Vec2::Zero();  // the points' mean
+  Vec2 n = Vec2(0.0, -1.0);  // the line's unit normal
+  double var_offset = 0.0;   // mm^2
+  double var_angle = 0.0;    // rad^2
+  Vec2 direction() const { return Vec2(-n.y(), n.x()); }
+  // The variance of the line's position along n at the foot of p (mm^2).
+  double across_var(const Vec2& p) const {
+    const double u = (p - mean).dot(direction());
+    return var_offset + u * u * var_angle;
+  }
+};
+// The covariance of `line`, fitted to the points of moments m whose
+// distances from it have variance sigma2 (infinite var_angle when they
+// have no spread along it).
+LineCov line_cov(const Line& line, const Moments& m, double sigma2);
+// The variance of the points of moments m across `line`, from their
+// residuals, pooled with a prior variance worth prior_dof degrees of
+// freedom: (sum r^2 + prior_dof prior_var) / (N - 2 + prior_dof). With few
+// points the residuals alone say little (two points have none).
+double residual_variance(const Line& line, const Moments& m, double prior_var, double prior_dof);
+// The covariance (mm^2) of the intersection x of two lines known to a and b.
+// Infinite when they are parallel.
+Eigen::Matrix2d intersection_cov(const LineCov& a, const LineCov& b, const Vec2& x);
+// P(|e| > r) for e ~ N(0, cov) in the plane: the chance that a point
+// located with covariance cov lies more than r from where it is read.
+// Exact for any cov to about 1e-6 (a one-dimensional integral).
+double prob_outside_circle(const Eigen::Matrix2d& cov, double r);
 
 // Acute angle between the lines, 0..90 degrees.
 double acute_angle_deg(const Line& a, const Line& b);

@@ -358,6 +358,12 @@ struct ConfidenceParams {
   // Its plates must be lines there: rejected ("curved") when one's points
   // lie more than this many noise sigmas (rms) about its line.
   double max_plate_rms_sigma = 2.0;
+  // Where the template works out how precisely its fits locate the track
+  // point (TrackResult::track_sigma_mm; docs/JOINTS.md "Localization"), the
+  // confidence is multiplied by the chance that the track point lies within
+  // this distance (mm, a false read's) of where it is read; a reading left
+  // below min_confidence mostly by it is rejected as "uncertain". 0: off.
+  double track_interval_mm = 1.0;
 };
 
 // A prediction of where the joint is (sensor frame, mm), from the profiles

@@ -68,10 +68,13 @@ struct Plate {
   int count() const { return last - first + 1; }
 };
 
-// A plate edge: an estimate and half the interval it can lie in.
+// A plate edge: an estimate and half the interval it can lie in, and the
+// covariance of the estimate (mm^2; docs/JOINTS.md "Localization"): its
+// line's fit, its end point's noise and that interval as a uniform spread.
 struct Edge {
   Vec2 point = Vec2::Zero();
   double half_width_mm = 0.0;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
 };
 
 // What a reading's points say for it (Matcher::weigh, docs/JOINTS.md
@@ -98,6 +101,11 @@ struct Candidate {
   bool weighed = false;  // the template set `evidence` itself (the groove model)
   double edge_unc = 0.0;
   double track_unc = 0.0;  // half the interval the track point can lie in, from its edges
+  // The covariance of the track point (mm^2) from the fits that place it
+  // (docs/JOINTS.md "Localization"), where the template works it out
+  // (located).
+  Eigen::Matrix2d track_cov = Eigen::Matrix2d::Zero();
+  bool located = false;
   double score = 0.0;
   bool accepted = false;
   // Rejected by the model check only ("uncertain": the joint is there but
@@ -728,6 +736,85 @@ class Matcher {
     return origin_ + u * d;
   }
 
+  // The unit direction of column col's ray (from the ray origin).
+  Vec2 ray_dir(int col) const {
+    const double t = s_.column_tan(col);
+    return std::isfinite(t) ? Vec2(t, 1.0).normalized() : Vec2(0.0, 1.0);
+  }
+
+  // How precisely plate pl's line is known (LineCov): its points' residuals
+  // about it pooled with the profile's noise worth kPriorDof degrees of
+  // freedom (a bevel of four points has two of its own). The points of
+  // [first, last] farther than kOutlierSigma noise sigmas from the line are
+  // not the plate's (a plate extended over pieces of one line spans the
+  // short pieces between them). A line with no spread along it is taken
+  // as known to 1000 radians.
+  static constexpr double kPriorDof = 2.0;
+  static constexpr double kOutlierSigma = 5.0;
+  LineCov cov_of(const Plate& pl) const {
+    PointSums sums;
+    for (int i = pl.first; i <= pl.last; ++i)
+      if (pl.line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    const Moments m = s_.moments(sums);
+    LineCov lc = line_cov(pl.line, m, residual_variance(pl.line, m, sigma_ * sigma_, kPriorDof));
+    lc.var_angle = std::min(lc.var_angle, 1e6);
+    return lc;
+  }
+  // The covariance of a point q = p + J_o o + J_a a moved by a line's
+  // offset o and angle a (LineCov, independent).
+  static Eigen::Matrix2d moved(const LineCov& lc, const Vec2& j_offset, const Vec2& j_angle) {
+    return lc.var_offset * j_offset * j_offset.transpose() + lc.var_angle * j_angle * j_angle.transpose();
+  }
+
+  // Where a plate ends along its line, when the surface beyond meets it at a
+  // shallow angle (a v-groove's bevel and its root face, 30 degrees): the
+  // last points of the plate may lie on that surface instead, within the
+  // surface tolerance of the plate's line (docs/JOINTS.md "Localization").
+  // For each t = 2..kEndPoints (leaving at least 4 on the plate), the t
+  // points at its end (at_last: its last points, else its first) are
+  // weighed on a line of each direction `dirs` (free offset) against the
+  // plate's line (Gaussian, the profile's noise); "none of them" has prior
+  // 1/2, the splits share the other half. The edge then lies between the
+  // split's two points. Returns the posterior mean square (mm^2) of the
+  // edge's distance along the plate from `edge` (as read).
+  static constexpr int kEndPoints = 12;
+  double end_spread(const Plate& pl, bool at_last, const Vec2& edge, std::span<const Vec2> dirs) const {
+    const int tmax = std::min(kEndPoints, pl.count() - 4);
+    if (tmax < 2 || dirs.empty()) return 0.0;
+    const Vec2 d = pl.line.direction();
+    const double s2 = 2.0 * sigma_ * sigma_;
+    const double prior = std::log(0.5 / ((tmax - 1) * static_cast<double>(std::min(dirs.size(), std::size_t{2}))));
+    auto q = [&](int j) { return pt(at_last ? pl.last - j : pl.first + j); };
+    const double a_edge = edge.dot(d);
+    // log weights and squared distances: "none" first (log(1/2), distance 0).
+    double lw_max = std::log(0.5), sum_w = 0.0, sum_wd = 0.0;
+    double on_plate = 0.0;
+    constexpr std::size_t kDirs = 2;
+    std::array<double, kDirs * kEndPoints> lw{}, dd{};
+    int k = 0;
+    std::array<double, kDirs> sg{}, sg2{};  // per direction: sum and sum of squares of the points' offsets
+    for (int t = 1; t <= tmax; ++t) {
+      const Vec2 p = q(t - 1);
+      on_plate += pl.line.signed_distance(p) * pl.line.signed_distance(p);
+      for (std::size_t f = 0; f < dirs.size() && f < sg.size(); ++f) {
+        const double o = p.dot(Vec2(-dirs[f].y(), dirs[f].x()));
+        sg[f] += o, sg2[f] += o * o;
+        if (t < 2) continue;
+        const double alt = std::max(sg2[f] - sg[f] * sg[f] / t, 0.0);
+        const double a = 0.5 * (q(t - 1).dot(d) + q(t).dot(d)) - a_edge;
+        lw[k] = prior - (alt - on_plate) / s2, dd[k] = a * a;
+        lw_max = std::max(lw_max, lw[k]);
+        ++k;
+      }
+    }
+    sum_w = std::exp(std::log(0.5) - lw_max);
+    for (int i = 0; i < k; ++i) {
+      const double w = std::exp(lw[i] - lw_max);
+      sum_w += w, sum_wd += w * dd[i];
+    }
+    return sum_wd / sum_w;
+  }
+
   // X lies between the rays of columns a and b (seen from the ray origin).
   bool between_rays(const Vec2& x, int a, int b) const {
     const double dz = x.y() - origin_.y();
@@ -797,10 +884,40 @@ class Matcher {
           ++k;
         }
       }
-      if (k > 0) return Edge{sum / k, 0.0};
+      if (k > 0) {
+        // The faces' feet move with the plate's line along the face; each
+        // face point has the profile's noise.
+        const Vec2 e = sum / k, g = *face_dir / den;
+        const LineCov lc = cov_of(pl);
+        const double u = (e - lc.mean).dot(lc.direction());
+        return Edge{e, 0.0, moved(lc, g, u * g) + sigma_ * sigma_ / k * Eigen::Matrix2d::Identity()};
+      }
     }
-    if (rd.along > 0.0) return Edge{near + r * dir, std::max(0.5 * (r - rd.along), tol_)};
-    return Edge{0.5 * (near + far), 0.5 * (far - near).dot(dir)};
+    // The covariance (docs/JOINTS.md "Localization"): the line's offset and
+    // angle move the end point's foot across the line and the ray's hit
+    // along that ray; the end point's own noise (along its ray, the
+    // profile's noise) moves its foot along the line; the interval the edge
+    // can lie in counts as a uniform spread (its half width h: h^2 / 3).
+    const LineCov lc = cov_of(pl);
+    const Vec2 n = pl.line.n, d = pl.line.direction();
+    const Vec2 ray = ray_dir(beyond_col);
+    const double end_var = sigma_ * sigma_ * ray.dot(d) * ray.dot(d);
+    const double u_near = (near - lc.mean).dot(d);
+    if (rd.along > 0.0) {
+      const Vec2 e = near + r * dir;
+      const double h = std::max(0.5 * (r - rd.along), tol_), u = (e - lc.mean).dot(d);
+      return Edge{e, h, moved(lc, n, u * n) + (end_var + h * h / 3.0) * d * d.transpose()};
+    }
+    const double h = 0.5 * (far - near).dot(dir);
+    if (!(h > 0.0)) return Edge{near, 0.0, moved(lc, n, u_near * n) + end_var * d * d.transpose()};
+    const double rn = ray.dot(n);
+    if (!(std::abs(rn) > 1e-9))
+      return Edge{0.5 * (near + far), h, Eigen::Matrix2d::Constant(std::numeric_limits<double>::infinity())};
+    const Vec2 g = ray / rn;  // the ray's hit moves along it by the line's shift / (ray . n)
+    const double u_far = (far - lc.mean).dot(d);
+    return Edge{0.5 * (near + far), h,
+                moved(lc, 0.5 * (n + g), 0.5 * (u_near * n + u_far * g)) +
+                    (0.25 * end_var + h * h / 3.0) * d * d.transpose()};
   }
 
   // Rounded and chamfered edges are at most this wide (mm).
@@ -1051,6 +1168,7 @@ class Matcher {
       Candidate c;
       c.angle = angle_between_deg(pr->ua, pr->ub);
       c.track = pr->x;
+      c.track_cov = intersection_cov(cov_of(a), cov_of(b), pr->x), c.located = true;
       c.bp[0] = outer(flange, pt(f_out));
       c.bp[1] = pr->x;
       c.bp[4] = outer(web, pt(w_out));
@@ -1104,10 +1222,13 @@ class Matcher {
         const Plate& b = pr->b;
         const int from = a.last + 1, to = b.first - 1;
         Candidate c;
-        Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+        const Eigen::Matrix2d x_cov = intersection_cov(cov_of(a), cov_of(b), pr->x);
+        Edge el{pr->x, 0.0, x_cov}, er{pr->x, 0.0, x_cov};
+        bool open = false;
         // Faces that meet between two neighbouring rays (or in a run of
         // invalid columns) are one sharp edge: missing points are no gap.
         if (pr->trimmed || off_both(from, to, a.line, b.line) || !meet_between_rays(a, b, pr->x)) {
+          open = true;
           // A face reaches as far as the points after it that lie on its
           // line (within the surface tolerance, on its side of the lines'
           // apex), over single points off it (noise): a dropout or a noisy
@@ -1133,6 +1254,7 @@ class Matcher {
         c.edge_unc = el.half_width_mm + er.half_width_mm;
         c.track_unc = 0.5 * c.edge_unc;
         c.track = 0.5 * (el.point + er.point);
+        c.track_cov = open ? Eigen::Matrix2d(0.25 * (el.cov + er.cov)) : x_cov, c.located = true;
         c.bp[0] = outer(a, pt(a.first));
         c.bp[1] = el.point;
         c.bp[2] = pr->x;
@@ -1160,6 +1282,7 @@ class Matcher {
           closed.gap = 0.0;
           closed.edge_unc = closed.track_unc = 0.0;
           closed.track = closed.bp[1] = closed.bp[3] = pr->x;
+          closed.track_cov = x_cov;
           closed.score = c.score - 1;
           if (c.accepted) closed.evidence = weigh(c), closed.weighed = true;  // over the same points
           offer(closed);
@@ -1488,6 +1611,14 @@ class Matcher {
     c.edge_unc = el.half_width_mm + er.half_width_mm;
     c.track_unc = 0.5 * c.edge_unc;
     c.track = lower.line.project(0.5 * (el.point + er.point));
+    {
+      // Along the lower plate the edges' midpoint, across it the plate's line.
+      const Vec2 d = lower.line.direction();
+      const Eigen::Matrix2d along = d * d.transpose();
+      c.track_cov = 0.25 * along * (el.cov + er.cov) * along +
+                    cov_of(lower).across_var(*c.track) * lower.line.n * lower.line.n.transpose();
+      c.located = true;
+    }
     c.bp[0] = outer(a, pt(a.first));
     c.bp[1] = el.point;
     c.bp[2] = c.track;
@@ -2856,7 +2987,8 @@ class Matcher {
         if (!j_short) tr.reset();
       }
       const int from = bl.last + 1, to = br.first - 1;
-      Edge el{pr->x, 0.0}, er{pr->x, 0.0};
+      const Eigen::Matrix2d x_cov = intersection_cov(cov_of(bl), cov_of(br), pr->x);
+      Edge el{pr->x, 0.0, x_cov}, er{pr->x, 0.0, x_cov};
       bool open_root = false;
       // Bevels that meet between two neighbouring rays are a closed root; a run
       // of invalid columns between them is the root opening (the rays went
@@ -2898,6 +3030,14 @@ class Matcher {
       Vec2 np(-dp.y(), dp.x());
       if (np.dot(origin_ - pr->x) < 0.0) np = -np;
       const Vec2& low = np.dot(el.point) <= np.dot(er.point) ? el.point : er.point;
+      if (open_root) {
+        // Each bevel's last points may be its root face (square to the
+        // plates) or what is seen through the gap (along them).
+        const Vec2 dirs[2] = {np, dp};
+        const Vec2 dl = bl.line.direction(), dr = br.line.direction();
+        el.cov += end_spread(bl, true, el.point, dirs) * dl * dl.transpose();
+        er.cov += end_spread(br, false, er.point, dirs) * dr * dr.transpose();
+      }
       const Vec2 mid = 0.5 * (el.point + er.point);
 
       Candidate c;
@@ -2907,6 +3047,19 @@ class Matcher {
       c.edge_unc = el.half_width_mm + er.half_width_mm;
       c.track_unc = 0.5 * c.edge_unc;
       c.track = low + dp.dot(mid - low) * dp;
+      if (open_root) {
+        // T = P_n low + P_d (el + er) / 2, P_n and P_d the projections across
+        // and along the plates; the two edges come from different bevels.
+        const Eigen::Matrix2d pd = dp * dp.transpose(), pn = np * np.transpose();
+        const bool l_low = &low == &el.point;
+        const Eigen::Matrix2d m_low = pn + 0.5 * pd, m_other = 0.5 * pd;
+        const Eigen::Matrix2d& c_low = l_low ? el.cov : er.cov;
+        const Eigen::Matrix2d& c_other = l_low ? er.cov : el.cov;
+        c.track_cov = m_low * c_low * m_low.transpose() + m_other * c_other * m_other.transpose();
+      } else {
+        c.track_cov = x_cov;
+      }
+      c.located = true;
       double depth = 0.0;
       int sides = 0;
       if (tl) depth += tl->line.distance(el.point), ++sides;
@@ -3071,6 +3224,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
   out.fill_lowest.reset();
   out.edge_uncertainty_mm = 0.0;
   out.track_uncertainty_mm = 0.0;
+  out.track_sigma_mm = out.track_off_probability = kNaN;
   out.noise_mm = 0.0;
   out.confidence = 0.0;
   out.strength = 0.0;
@@ -3172,7 +3326,16 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     int u_first = 0, u_last = 0;
     const double beyond = m.unexplained_beyond(best, u_first, u_last);
     const double step_rival = beyond > 0.0 ? std::exp(std::min((beyond - e) / tau, 700.0)) : 0.0;
-    out.confidence = 1.0 / (1.0 + against + rivals + step_rival);
+    const double found = 1.0 / (1.0 + against + rivals + step_rival);
+    // ...and that it is where it is read (docs/JOINTS.md "Localization").
+    double off = 0.0;
+    if (best.located) {
+      out.track_sigma_mm = std::sqrt(std::max(best.track_cov.trace(), 0.0));
+      out.track_off_probability = off = cp.track_interval_mm > 0.0
+                                            ? prob_outside_circle(best.track_cov, cp.track_interval_mm)
+                                            : 0.0;
+    }
+    out.confidence = found * (1.0 - off);
     // The reading must explain the points near the joint: a bead, a tack
     // weld or a body there that fits none of its lines is no part of this
     // joint, and the joint may lie under it.
@@ -3195,7 +3358,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
       out.confidence = 0.0;
     } else if (out.confidence < cp.min_confidence) {
       out.status = TrackStatus::Rejected;
-      if (step_rival > std::max(rivals, against))
+      if (off > 1.0 - found)
+        std::snprintf(buf, sizeof buf,
+                      "uncertain: confidence %.2f, the track point is located to %.2g mm (rms; %.0f %% chance of "
+                      "more than %g mm off)",
+                      out.confidence, out.track_sigma_mm, 100.0 * off, cp.track_interval_mm);
+      else if (step_rival > std::max(rivals, against))
         std::snprintf(buf, sizeof buf,
                       "ambiguous: confidence %.2f, the points of columns %d-%d are a step off the reading's "
                       "lines (evidence %.3g vs %.3g): the joint may be there",

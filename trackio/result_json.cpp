@@ -37,6 +37,12 @@ constexpr std::pair<const char*, double R::*> kGrooveValues[] = {
     {"wall_angle_b_deg", &R::wall_angle_b_deg},
     {"top_width_mm", &R::top_width_mm},
 };
+// How precisely the track point is located, written after the grooves'
+// values; files written before lack them (read as not measured).
+constexpr std::pair<const char*, double R::*> kLocationValues[] = {
+    {"track_sigma_mm", &R::track_sigma_mm},
+    {"track_off_probability", &R::track_off_probability},
+};
 constexpr std::pair<const char*, int R::*> kCounts[] = {
     {"valid_points", &R::valid_points},
     {"outliers", &R::outliers},
@@ -170,6 +176,7 @@ void write_result(LineWriter& w, std::int64_t profile, const R& r) {
   w.key("rival_track_point").point(r.rival_track_point);
   for (const auto& [key, field] : kValues) w.key(key).number(r.*field);
   for (const auto& [key, field] : kGrooveValues) w.key(key).number(r.*field);
+  for (const auto& [key, field] : kLocationValues) w.key(key).number(r.*field);
   w.key("fill_lowest").point(r.fill_lowest);
   for (const auto& [key, field] : kCounts) w.key(key).integer(r.*field);
   w.key("segments").open('[');
@@ -252,6 +259,8 @@ R result_from_json(const Json& j, std::int64_t* profile) {
   r.rival_track_point = point_from(at(j, "rival_track_point"));
   for (const auto& [key, field] : kValues) r.*field = value(j, key);
   for (const auto& [key, field] : kGrooveValues)
+    if (j.contains(key)) r.*field = value(j, key);
+  for (const auto& [key, field] : kLocationValues)
     if (j.contains(key)) r.*field = value(j, key);
   if (j.contains("fill_lowest")) r.fill_lowest = point_from(j.at("fill_lowest"));
   for (const auto& [key, field] : kCounts) r.*field = integer<int>(j, key);

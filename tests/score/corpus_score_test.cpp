@@ -46,7 +46,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
       {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {16, 0.73}},
-      {tk::JointType::VGroove, {57, 0.72}},
+      {tk::JointType::VGroove, {46, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);

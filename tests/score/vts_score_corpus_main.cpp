@@ -2,10 +2,14 @@
 // the table of docs/JOINTS.md "Scores".
 //   vts-score-corpus [--profiles N] [--first-seed S] [--joint NAME]... [--camera-in-plane]
 //                    [--failures N] [--tag-stats] [--features FILE] [--dump JOINT SEED LEVEL PREFIX]
+//                    [--track-interval MM]
 // --failures N prints up to N false reads and imprecise readings per joint
 // (seed, tags, result) for a look at them; --features FILE writes one CSV
 // line per profile (outcome, error, confidence terms, rival, break points,
-// groove values, how far the track point and B2-B4 lie from a seen point).
+// groove values, how far the track point and B2-B4 lie from a seen point,
+// the track point's stated rms error and chance of lying more than the
+// track interval off); --track-interval MM sets the distance the
+// confidence asks the track point to be located within (0: not asked).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -62,6 +66,7 @@ int main(int argc, char** argv) {
   bool tag_stats = false;
   std::string features_path;
   std::vector<vc::Joint> joints;
+  tk::TrackerParams base;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> const char* {
@@ -77,6 +82,9 @@ int main(int argc, char** argv) {
     else if (a == "--failures") failures = std::atoi(value());
     else if (a == "--tag-stats") tag_stats = true;
     else if (a == "--features") features_path = value();
+    // --track-interval MM: ConfidenceParams::track_interval_mm (0: the
+    // track point's localization left out of the confidence).
+    else if (a == "--track-interval") base.confidence.track_interval_mm = std::atof(value());
     else if (a == "--dump") {
       // --dump JOINT SEED LEVEL PREFIX: one profile and its reading, for a plot
       // (tests/score/plot_reading.py).
@@ -114,13 +122,13 @@ int main(int argc, char** argv) {
     std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
                            "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason");
     for (int k = 0; k < tk::kMaxBreakPoints; ++k) std::fprintf(features, ",b%dy,b%dz", k, k);
-    std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4\n");
+    std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4,track_sigma,track_off_p\n");
   }
   std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
   // (joint, tag) -> profiles with it, and of them right / imprecise / rejected / false.
   std::map<std::pair<std::string, std::string>, std::array<int, 5>> tags;
-  const auto table = run(o, {}, [&](const vc::Profile& p, const tk::TrackResult& r, const tk::Scored& s) {
+  const auto table = run(o, base, [&](const vc::Profile& p, const tk::TrackResult& r, const tk::Scored& s) {
     if (tag_stats) {
       auto count = [&](const std::string& tag) {
         auto& c = tags[{vc::joint_name(p.truth.joint), tag}];
@@ -159,8 +167,10 @@ int main(int argc, char** argv) {
           }
         return best;
       };
-      std::fprintf(features, ",%.4f,%.4f,%.4f,%.4f\n", nearest(r.track_point), nearest(r.break_points[2]),
+      std::fprintf(features, ",%.4f,%.4f,%.4f,%.4f", nearest(r.track_point), nearest(r.break_points[2]),
                    nearest(r.break_points[3]), nearest(r.break_points[4]));
+      // How precisely the reading's fits locate the track point.
+      std::fprintf(features, ",%.4f,%.3g\n", r.track_sigma_mm, r.track_off_probability);
     }
     if (s.outcome != tk::Outcome::False && s.outcome != tk::Outcome::Imprecise) return;
     const tk::JointType j = joint_of(p.truth.joint);

@@ -160,7 +160,18 @@ void check_scan(const Scan& s, double standoff, double tilt, std::uint64_t seed,
     // docs/JOINTS.md "Calibration"): "ambiguous" is fair there too.
     const double spacing = standoff * 2.0 * std::tan(0.5 * s.desc.fan_deg * kDeg) / s.desc.points;
     const bool gap_only = w.type == JointType::Butt && w.params.mismatch_mm == 0.0;
-    if (!(gap_only && (w.params.gap_mm < 5.0 * spacing || r.reason.rfind("ambiguous", 0) == 0))) ++worst.unsure;
+    // Where the rays themselves place the track point no better than the
+    // false-read distance (tolerances(): two ray spacings along a bevel
+    // seen at a grazing angle and 3 sigma, more than
+    // ConfidenceParams::track_interval_mm), a reading whose fits locate it
+    // to no better than that is fairly "uncertain" too (docs/JOINTS.md
+    // "Localization"; the built-in v-groove, and the one with gap and
+    // mismatch, at 200-250 mm and 20 degrees of tilt: 0.06-0.92 mm off,
+    // stated 0.64-1.0 mm rms).
+    const bool located = r.reason.rfind("uncertain: confidence", 0) == 0;
+    const bool coarse = tol.track > tp.confidence.track_interval_mm;
+    if (!(gap_only && (w.params.gap_mm < 5.0 * spacing || r.reason.rfind("ambiguous", 0) == 0)) && !(located && coarse))
+      ++worst.unsure;
     return;
   }
   CHECK(r.status == tk::TrackStatus::Ok);

@@ -43,7 +43,8 @@ TEST_CASE("trackio json: a result written by hand", "[trackio]") {
             R"("angle_deg":null,"mismatch_mm":null,"step_mm":null,"depth_mm":null,"area_mm2":null,)"
             R"("edge_uncertainty_mm":0.0,"track_uncertainty_mm":0.0,"noise_mm":0.051235,"confidence":0.25,)"
             R"("strength":3.5,"rival_strength":4.0,"wall_angle_a_deg":null,"wall_angle_b_deg":null,)"
-            R"("top_width_mm":null,"fill_lowest":null,"valid_points":500,"outliers":2,)"
+            R"("top_width_mm":null,"track_sigma_mm":null,"track_off_probability":null,"fill_lowest":null,)"
+            R"("valid_points":500,"outliers":2,)"
             R"("segments":[{"first":7,"last":7,"points":1,"line":null,"rms_mm":0.0}]})"
             "\n");
 }
@@ -99,4 +100,20 @@ TEST_CASE("trackio json: a groove's values round-trip, and lines without them st
   CHECK(std::isnan(old.wall_angle_a_deg));
   CHECK(std::isnan(old.top_width_mm));
   CHECK_FALSE(old.fill_lowest);
+}
+
+TEST_CASE("trackio json: the track point's localization round-trips, and lines without it still read", "[trackio]") {
+  tk::TrackResult r;
+  r.joint = tk::JointType::VGroove;
+  r.status = tk::TrackStatus::Ok;
+  r.track_point = tk::Vec2(1.5, 110.25);
+  r.track_sigma_mm = 0.125, r.track_off_probability = 0.0625;
+  Json j = vts::trackio::result_to_json(0, r);
+  const tk::TrackResult back = vts::trackio::result_from_json(j);
+  CHECK(back.track_sigma_mm == 0.125);
+  CHECK(back.track_off_probability == 0.0625);
+  for (const char* key : {"track_sigma_mm", "track_off_probability"}) j.erase(key);
+  const tk::TrackResult old = vts::trackio::result_from_json(j);
+  CHECK(std::isnan(old.track_sigma_mm));
+  CHECK(std::isnan(old.track_off_probability));
 }
