@@ -104,6 +104,21 @@ struct FilletParams {
   // plate's line count as that plate's end: a dropout or one noisy point can
   // cut the few flange points seen through the gap off as a short piece.
   bool flange_pieces = true;
+  // A plate may be a gentle arc near the root (a pipe's section: the main
+  // pipe of a saddle, docs/JOINTS.md "Fillet"). Each plate's points within
+  // curve_window_mm of the lines' corner are fitted with a quadratic across
+  // its line, and the root is where the plates' curves meet. A plate is
+  // curved when its line does not explain it to within curve_rms_sigma
+  // noise sigmas (rms) and the quadratic through all its points does
+  // (waviness does not), its quadratic term is at least curve_t standard
+  // errors (the larger of the noise and the fit's own residual), its radius
+  // at least min_curve_radius x the window, and near the root no cubic
+  // term is as significant (one wave of waviness).
+  bool curved_plates = true;
+  double curve_window_mm = 10.0;
+  double curve_t = 5.0;
+  double min_curve_radius = 5.0;  // in curve_window_mm
+  double curve_rms_sigma = 1.5;   // the arc's residual at most this many noise sigmas
 };
 
 struct CornerParams {

@@ -59,13 +59,43 @@ constexpr std::string_view kBreakNames[8][kMaxBreakPoints] = {
      "second top outer end", ""},
 };
 
-// A plate: a run of kept points [first, last] and its fitted line.
+// A plate: a run of kept points [first, last] and its fitted line. A curved
+// plate (the fillet's, FilletParams::curved_plates: a pipe's section) is
+// also a circular arc (centre, radius rho; bend +1: the centre in front of
+// it, towards the sensor, -1 behind it), which is its surface to the
+// evidence, and `line` is its tangent at the root. rho 0: straight, and
+// every distance then exactly the line's.
 struct Plate {
   int first = 0;
   int last = 0;
   Line line;
   Vec2 centroid = Vec2::Zero();
+  double rho = 0.0;
+  double bend = 0.0;
+  Vec2 centre = Vec2::Zero();
+  double line_rms = -1.0;  // the points' rms about `line` as fitted (-1: not known)
   int count() const { return last - first + 1; }
+  // > 0 in front of the surface (towards the sensor), < 0 behind it.
+  double signed_distance(const Vec2& q) const {
+    if (rho == 0.0) return line.signed_distance(q);
+    return bend * (rho - (q - centre).norm());
+  }
+  double distance(const Vec2& q) const { return std::abs(signed_distance(q)); }
+  Vec2 project(const Vec2& q) const {
+    if (rho == 0.0) return line.project(q);
+    const Vec2 d = q - centre;
+    const double len = d.norm();
+    return len > 0.0 ? Vec2(centre + d * (rho / len)) : q;
+  }
+  // The surface's tangent line at the point nearest q (the line itself if
+  // straight), its normal towards the sensor as line's.
+  Line tangent_at(const Vec2& q) const {
+    if (rho == 0.0) return line;
+    const Vec2 f = project(q);
+    Vec2 n = (centre - f) / rho;
+    if (n.dot(line.n) < 0.0) n = -n;
+    return Line{n, n.dot(f)};
+  }
 };
 
 // A plate edge: an estimate and half the interval it can lie in, and the
@@ -185,6 +215,118 @@ bool check(Candidate& c, const char* name, double v, const Range& r, const char*
   return false;
 }
 
+// A gentle arc across a line (FilletParams::curved_plates): the points q
+// (every stride-th) within `window` of o fitted with v = b0 + b1 u + b2 u^2
+// by least squares in v, v the signed distance from `frame` and u along it
+// from o. Curved when b2 is at least fp.curve_t standard errors, each
+// point's error the larger of `sigma` and the fit's own residual, and the
+// radius of curvature 1 / (2 |b2|) at least fp.min_curve_radius windows
+// (curve_window_mm): a pipe's section, not the corner of a bead or a
+// rounded edge; and the points lie within fp.curve_rms_sigma sigma (rms)
+// of it (waviness does not). rms: the residual about the quadratic (over
+// n).
+struct QuadFit {
+  double b0 = 0.0, b1 = 0.0, b2 = 0.0, rms = 0.0;
+  bool fitted = false, curved = false;
+  bool wiggly = false;  // the cubic term is significant too (curve_t standard errors)
+};
+QuadFit fit_quadratic(std::span<const Vec2> q, const Line& frame, const Vec2& o, double window, double sigma,
+                      const FilletParams& fp, int min_points, int stride = 1) {
+  QuadFit out;
+  const double w2 = window * window;
+  const Vec2 d = frame.direction();
+  // u in units of the window (the normal equations' conditioning), and the
+  // coefficients of u' = u / h scaled back: b1 = b1' / h, b2 = b2' / h^2.
+  const double h = std::max(fp.curve_window_mm, 1e-3);
+  // Twice: all points, then those within 3 rms (at least 3 sigma) of the
+  // first fit (a point of the other plate at the root, a noisy point).
+  double keep = std::numeric_limits<double>::infinity();
+  for (int pass = 0; pass < 2; ++pass) {
+    // With the cubic term too (`wiggly`): near the root the arc must be
+    // the adequate model, not a wiggle (one wave of waviness on a short
+    // plate) that a cubic follows better. The normal equations from the
+    // power sums of u (to the 6th) and of v u^k.
+    double su[7] = {}, sv[4] = {}, vv = 0.0;
+    int n = 0;
+    for (std::size_t k = 0; k < q.size(); k += static_cast<std::size_t>(stride)) {
+      const Vec2& p = q[k];
+      if ((p - o).squaredNorm() > w2) continue;
+      const double u = d.dot(p - o) / h, v = frame.signed_distance(p);
+      if (pass > 0 && std::abs(v - (out.b0 + (out.b1 + out.b2 * u * h) * u * h)) > keep) continue;
+      const double u2 = u * u, u3 = u2 * u;
+      su[1] += u, su[2] += u2, su[3] += u3, su[4] += u2 * u2, su[5] += u2 * u3, su[6] += u3 * u3;
+      sv[0] += v, sv[1] += v * u, sv[2] += v * u2, sv[3] += v * u3;
+      vv += v * v;
+      ++n;
+    }
+    su[0] = n;
+    if (n < std::max(min_points, 6)) return QuadFit{};
+    Eigen::Matrix4d ata4;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) ata4(r, c) = su[r + c];
+    const Eigen::Vector4d atv4(sv[0], sv[1], sv[2], sv[3]);
+    const Eigen::Matrix3d ata = ata4.topLeftCorner<3, 3>();
+    const Eigen::Vector3d atv = atv4.head<3>();
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return QuadFit{};
+    const Eigen::Vector3d b = ldlt.solve(atv);
+    const double c22 = ldlt.solve(Eigen::Vector3d::UnitZ())(2);
+    if (!b.allFinite() || !(c22 > 0.0)) return QuadFit{};
+    const double rss = std::max(0.0, vv - b.dot(atv));
+    out.b0 = b(0), out.b1 = b(1) / h, out.b2 = b(2) / (h * h), out.rms = std::sqrt(rss / n);
+    keep = 3.0 * std::max(sigma, out.rms);
+    const double s = std::max(sigma, std::sqrt(rss / (n - 3)));
+    const double t = std::abs(b(2)) / (s * std::sqrt(c22));
+    const double radius = 1.0 / (2.0 * std::abs(out.b2));
+    out.fitted = true;
+    out.curved = t >= fp.curve_t && radius >= fp.min_curve_radius * fp.curve_window_mm &&
+                 out.rms <= fp.curve_rms_sigma * sigma;
+    out.wiggly = false;
+    if (n > 4) {
+      const Eigen::LDLT<Eigen::Matrix4d> l4(ata4);
+      if (l4.info() == Eigen::Success && l4.isPositive()) {
+        const Eigen::Vector4d c = l4.solve(atv4);
+        const double c33 = l4.solve(Eigen::Vector4d::UnitW())(3);
+        const double s3 = std::max(sigma, std::sqrt(std::max(0.0, vv - c.dot(atv4)) / (n - 4)));
+        out.wiggly = c.allFinite() && c33 > 0.0 && std::abs(c(3)) / (s3 * std::sqrt(c33)) >= fp.curve_t;
+      }
+    }
+  }
+  return out;
+}
+
+// The circle through points q (Kasa's algebraic fit: least squares in
+// y^2 + z^2 + a y + b z + c, about `ref` for conditioning): centre, radius
+// and the rms of the points' distances from it. Empty for fewer than 3
+// points or points on a line.
+struct CircleFit {
+  Vec2 centre = Vec2::Zero();
+  double rho = 0.0, rms = 0.0;
+};
+std::optional<CircleFit> fit_circle(std::span<const Vec2> q, const Vec2& ref) {
+  if (q.size() < 3) return std::nullopt;
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atv = Eigen::Vector3d::Zero();
+  for (const Vec2& p : q) {
+    const Vec2 d = p - ref;
+    const Eigen::Vector3d a(d.x(), d.y(), 1.0);
+    ata += a * a.transpose();
+    atv -= a * d.squaredNorm();
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::nullopt;
+  const Eigen::Vector3d b = ldlt.solve(atv);
+  CircleFit f;
+  f.centre = ref + Vec2(-0.5 * b(0), -0.5 * b(1));
+  const double r2 = 0.25 * (b(0) * b(0) + b(1) * b(1)) - b(2);
+  if (!b.allFinite() || !(r2 > 0.0)) return std::nullopt;
+  f.rho = std::sqrt(r2);
+  double ss = 0.0;
+  for (const Vec2& p : q) ss += std::pow((p - f.centre).norm() - f.rho, 2);
+  f.rms = std::sqrt(ss / static_cast<double>(q.size()));
+  return f;
+}
+
 class Matcher {
  public:
   Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
@@ -277,6 +419,12 @@ class Matcher {
     }
   }
 
+  // The noise of single points for the fillet's curvature test
+  // (fit_quadratic): the estimate from neighbouring columns, not raised by
+  // the long segments' rms (a curved plate's segments deviate from their
+  // lines by their curvature; each fit's own residual counts instead).
+  void set_point_sigma(double sigma) { point_sigma_ = sigma; }
+
   // Fills `best` with the best candidate; returns false if there is none.
   bool run(JointType joint, Candidate& best, const TrackPrior* prior = nullptr) {
     found_ = false;
@@ -310,6 +458,7 @@ class Matcher {
   Vec2 origin_;
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
+  double point_sigma_ = 0.0;  // set_point_sigma
   // cost() is 0 for distances up to this: found with cost()'s own arithmetic
   // (d / sigma_ and its square are monotonic in d), so the same.
   double zero_cost_d_ = -1.0;
@@ -446,13 +595,14 @@ class Matcher {
       const Segment& sg = seg(q);
       if (sg.last >= c.pa.last && sg.first <= c.pb.first) continue;  // the joint's own
       const Plate& side = sg.last < c.pa.last ? c.pa : c.pb;
-      if (!sg.fitted || acute_angle_deg(sg.line, side.line) > p_.butt.max_plate_angle_deg) continue;
+      // (a curved plate's direction where the segment lies)
+      if (!sg.fitted || acute_angle_deg(sg.line, side.tangent_at(sg.centroid)) > p_.butt.max_plate_angle_deg) continue;
       const int stride = std::max(1, sg.count() / 32);
       int n = 0, n_off = 0;
       double sum = 0.0;
       for (int i = sg.first; i <= sg.last; i += stride) {
         const Vec2& q_pt = pt(i);
-        double d = std::min(c.pa.line.distance(q_pt), c.pb.line.distance(q_pt));
+        double d = std::min(c.pa.distance(q_pt), c.pb.distance(q_pt));
         for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q_pt));
         ++n;
         n_off += d > 2.0 * tol_;
@@ -534,8 +684,8 @@ class Matcher {
       // on a plate's line says the plate goes on (lines[0], lines[1]: the
       // plates'; the others, the lines it sees beside them, anywhere).
       double d = std::numeric_limits<double>::infinity();
-      if (col <= ca) d = lines[0].distance(q);
-      if (col >= cb) d = lines[1].distance(q);
+      if (col <= ca) d = c.pa.distance(q);  // lines[0], or the curved plate
+      if (col >= cb) d = c.pb.distance(q);
       for (int k = 2; k < n_lines; ++k) d = std::min(d, lines[k].distance(q));
       const double x = cost(d);
       if (x > 0.0) run += w * x, run_n += w;
@@ -605,23 +755,29 @@ class Matcher {
     // piece off its line: a reflection cluster), every stride-th (about 48 a
     // side on dense profiles).
     const int stride = std::max(1, std::max(c.pa.last - w0, w1 - c.pb.first) / 48);
-    auto on_plate = [&](int from, int to, const Line& l) {
+    // (a curved plate's: also their squared distances from its arc, in ss)
+    auto on_plate = [&](int from, int to, const Plate& pl, double& ss) {
       PointSums ps;
+      ss = 0.0;
       for (int i = from; i <= to; i += stride)
-        if (l.distance(pt(i)) <= 2.0 * tol_) ps.add(pt(i) - s_.ref_);
+        if (const double d = pl.distance(pt(i)); d <= 2.0 * tol_) ps.add(pt(i) - s_.ref_), ss += d * d;
       return ps;
     };
-    const PointSums sa = on_plate(std::max(w0, c.pa.first), c.pa.last, c.pa.line);
-    const PointSums sb = on_plate(c.pb.first, std::min(w1, c.pb.last), c.pb.line);
+    double ssa = 0.0, ssb = 0.0;
+    const PointSums sa = on_plate(std::max(w0, c.pa.first), c.pa.last, c.pa, ssa);
+    const PointSums sb = on_plate(c.pb.first, std::min(w1, c.pb.last), c.pb, ssb);
     PointSums sums = sa;
     sums += sb;
     const auto both = s_.fit(sums);
-    const Line nulls[3] = {c.pa.line, c.pb.line, both ? both->line : c.pa.line};
-    // The joint: its plates' lines, or for parallel plates (butt, lap) the
-    // two parallel lines that fit the plates' points there best (one
-    // direction, two offsets): two free lines would also fit a wavy plate
-    // split at a crest much better than one.
-    Line la = c.pa.line, lb = c.pb.line;
+    Plate one = c.pa;  // one line through both plates' points
+    one.rho = 0.0;
+    if (both) one.line = both->line;
+    const Plate nulls[3] = {c.pa, c.pb, one};
+    // The joint: its plates' lines (or arcs), or for parallel plates (butt,
+    // lap) the two parallel lines that fit the plates' points there best
+    // (one direction, two offsets): two free lines would also fit a wavy
+    // plate split at a crest much better than one.
+    Plate la = c.pa, lb = c.pb;
     if (c.parallel && sa.n >= 2 && sb.n >= 2) {
       const Moments ma = s_.moments(sa), mb = s_.moments(sb);
       Moments pooled;
@@ -631,16 +787,18 @@ class Matcher {
         Line l = f->line;
         l.c = l.n.dot(ma.mean);
         l.orient_towards(origin_);
-        la = l;
+        la.line = l, la.rho = 0.0;
         l = f->line;
         l.c = l.n.dot(mb.mean);
         l.orient_towards(origin_);
-        lb = l;
+        lb.line = l, lb.rho = 0.0;
       }
     }
-    // Each plate a line there: the rms about its line, in noise sigmas.
-    auto rms_of = [&](const PointSums& ps, const Line& l) {
+    // Each plate a line there: the rms about its line (or arc), in noise sigmas.
+    auto rms_of = [&](const PointSums& ps, double ss, const Plate& pl) {
       if (ps.n < 2) return 0.0;
+      if (pl.rho != 0.0) return std::sqrt(ss / ps.n) / sig;
+      const Line& l = pl.line;
       const Moments m = s_.moments(ps);
       const Vec2 d = l.direction();
       // Second moment across the line about the points' own mean, and the
@@ -649,7 +807,7 @@ class Matcher {
       const double off = l.signed_distance(m.mean);
       return std::sqrt(std::max(0.0, across / ps.n + off * off)) / sig;
     };
-    ev.fit = std::max(rms_of(sa, la), rms_of(sb, lb));
+    ev.fit = std::max(rms_of(sa, ssa, la), rms_of(sb, ssb, lb));
     double r0[3] = {0.0, 0.0, 0.0}, r1 = 0.0, event = 0.0;
     int into = 0;   // rays into the open joint that found something
     int stray = 0;  // points between the plates of an open joint that fit nothing of it
@@ -712,7 +870,11 @@ class Matcher {
     return ev;
   }
 
-  static Plate plate_of(const Segment& sg) { return Plate{sg.first, sg.last, sg.line, sg.centroid}; }
+  static Plate plate_of(const Segment& sg) {
+    Plate pl{sg.first, sg.last, sg.line, sg.centroid};
+    pl.line_rms = sg.rms_mm;
+    return pl;
+  }
   std::optional<Plate> plate_of(int first, int last) const {
     const auto f = s_.fit(first, last);
     if (!f) return std::nullopt;
@@ -970,7 +1132,7 @@ class Matcher {
   }
 
   // Outer end of a plate: its far end point on its line.
-  static std::optional<Vec2> outer(const Plate& pl, const Vec2& p) { return pl.line.project(p); }
+  static std::optional<Vec2> outer(const Plate& pl, const Vec2& p) { return pl.project(p); }
 
   // Consecutive long segments q, q+1 as plates, with their lines' intersection
   // and the directions from it to each plate.
@@ -1066,7 +1228,9 @@ class Matcher {
     }
     if (first == pl.first && last == pl.last) return pl;
     if (!fit) return pl;
-    return Plate{first, last, fit->line, fit->centroid};
+    Plate out{first, last, fit->line, fit->centroid};
+    out.line_rms = fit->rms_mm;
+    return out;
   }
 
   // A long segment between two plates is their edge face only if it does not
@@ -1098,14 +1262,134 @@ class Matcher {
     return std::abs(e) > tol_ && (c > 0.0) != (e > 0.0);
   }
 
+  // A plate near the corner: v = b0 + b1 u + b2 u^2, with v the signed
+  // distance from the plate's line and u along it from o (the corner).
+  struct Quad {
+    Line frame;
+    Vec2 o = Vec2::Zero();
+    double b0 = 0.0, b1 = 0.0, b2 = 0.0;
+    bool curved = false;
+    double f(const Vec2& q) const {
+      const double u = frame.direction().dot(q - o);
+      return frame.signed_distance(q) - (b0 + (b1 + b2 * u) * u);
+    }
+    Vec2 grad(const Vec2& q) const {
+      const double u = frame.direction().dot(q - o);
+      return frame.n - (b1 + 2.0 * b2 * u) * frame.direction();
+    }
+  };
+  // Plate pl is a gentle arc: its line does not explain it to the noise,
+  // and the quadratic through all its points (every k-th, at most about
+  // 128) is curved (fit_quadratic: the arc explains the whole plate, to the
+  // noise).
+  bool arc(const Plate& pl) const {
+    // A plate its line explains to within the noise (curve_rms_sigma) is a
+    // line: the simpler model.
+    if (pl.line_rms >= 0.0 && pl.line_rms <= p_.fillet.curve_rms_sigma * point_noise()) return false;
+    const auto pts = std::span<const Vec2>(s_.points).subspan(pl.first, pl.count());
+    return fit_quadratic(pts, pl.line, pl.centroid, std::numeric_limits<double>::infinity(), point_noise(), p_.fillet,
+                         p_.segmentation.segments.min_segment_points, std::max(1, pl.count() / 128))
+        .curved;
+  }
+  double point_noise() const { return point_sigma_ > 0.0 ? point_sigma_ : sigma_; }
+  // An arc plate near x: the quadratic through its points within
+  // FilletParams::curve_window_mm of x; a line (not curved) when a cubic
+  // follows those better (a wave of waviness, not an arc).
+  Quad quad_near(const Plate& pl, const Vec2& x) const {
+    const FilletParams& fp = p_.fillet;
+    Quad qd{pl.line, x};
+    const auto pts = std::span<const Vec2>(s_.points).subspan(pl.first, pl.count());
+    const QuadFit f =
+        fit_quadratic(pts, pl.line, x, fp.curve_window_mm, point_noise(), fp, p_.segmentation.segments.min_segment_points);
+    if (f.fitted && !f.wiggly) qd.b0 = f.b0, qd.b1 = f.b1, qd.b2 = f.b2, qd.curved = true;
+    return qd;
+  }
+  // The fillet's pair with its plates as lines or gentle arcs (arc(),
+  // quad_near): the corner where the two curves meet (Newton's method from
+  // the lines' corner), an arc plate's line its tangent there and its
+  // surface a circle (below). The pair as it is when neither plate is an
+  // arc or the curves do not meet near the lines' corner.
+  Pair bent(const Pair& pr) const {
+    const FilletParams& fp = p_.fillet;
+    if (!fp.curved_plates) return pr;
+    const bool arc_a = arc(pr.a), arc_b = arc(pr.b);
+    if (!arc_a && !arc_b) return pr;
+    Vec2 x = pr.x;
+    Quad qa, qb;
+    for (int pass = 0; pass < 2; ++pass) {
+      qa = arc_a ? quad_near(pr.a, x) : Quad{pr.a.line, x};
+      qb = arc_b ? quad_near(pr.b, x) : Quad{pr.b.line, x};
+      if (!qa.curved && !qb.curved) return pr;
+      Vec2 y = x;
+      bool met = false;
+      for (int it = 0; it < 20 && !met; ++it) {
+        // Solve [ga; gb] step = (fa, fb) (Cramer's rule).
+        const Vec2 ga = qa.grad(y), gb = qb.grad(y);
+        const double det = ga.x() * gb.y() - ga.y() * gb.x();
+        if (!(std::abs(det) > std::sin(5.0 * kDeg) * 0.5)) return pr;
+        const double fa = qa.f(y), fb = qb.f(y);
+        const Vec2 step((fa * gb.y() - ga.y() * fb) / det, (ga.x() * fb - fa * gb.x()) / det);
+        y -= step;
+        met = step.norm() < 1e-9;
+      }
+      if (!met || !y.allFinite() || (y - pr.x).norm() > 0.5 * fp.curve_window_mm) return pr;
+      x = y;
+    }
+    Pair out = pr;
+    out.x = x;
+    // A curved plate: its tangent at the root from its quadratic there; its
+    // surface the circle through its points and those of the long segments
+    // beyond it that continue that circle (the circle through both fits
+    // within the noise: curve_rms_sigma sigma rms, or 1.2 times the
+    // plate's own).
+    auto shape = [&](Plate& pl, const Quad& qd, int dir) {
+      if (!qd.curved) return true;
+      const Vec2 d = qd.frame.direction();
+      const double u = d.dot(x - qd.o), m = qd.b1 + 2.0 * qd.b2 * u;
+      const Vec2 n = (qd.frame.n - m * d).normalized();
+      pl.line = Line{n, n.dot(x)};
+      std::vector<Vec2>& pts = scratch_;  // (the lap's and the grooves' scratch; not in use here)
+      pts.assign(s_.points.begin() + pl.first, s_.points.begin() + pl.last + 1);
+      auto circle = fit_circle(pts, x);
+      if (!circle) return false;
+      for (int q = dir < 0 ? n_long() - 1 : 0; q >= 0 && q < n_long(); q += dir) {
+        const Segment& sg = seg(q);
+        if (dir < 0 ? sg.last >= pl.first : sg.first <= pl.last) continue;  // not beyond the plate
+        const std::size_t before = pts.size();
+        pts.insert(pts.end(), s_.points.begin() + sg.first, s_.points.begin() + sg.last + 1);
+        const auto joint = fit_circle(pts, x);
+        if (!joint || joint->rms > std::max(fp.curve_rms_sigma * sigma_, 1.2 * circle->rms)) {
+          pts.resize(before);
+          break;
+        }
+        circle = joint;
+      }
+      pl.rho = circle->rho;
+      pl.centre = circle->centre;
+      pl.bend = pl.line.signed_distance(circle->centre) > 0.0 ? 1.0 : -1.0;
+      return true;
+    };
+    if (!shape(out.a, qa, -1) || !shape(out.b, qb, +1)) return pr;
+    auto along = [&](const Plate& pl) {
+      const Vec2 t = pl.line.direction();
+      return t.dot(pl.centroid - x) < 0.0 ? Vec2(-t) : t;
+    };
+    out.ua = along(out.a), out.ub = along(out.b);
+    out.valley = (out.ua + out.ub).dot(origin_ - out.x) > 0.0;
+    return out;
+  }
+
   void fillet() {
     const FilletParams& fp = p_.fillet;
     for (int q = 0; q + 1 < n_long(); ++q) {
       // Each plate over the long segments beyond it that continue its line
       // (noise can cut a plate in pieces; the short piece at the root alone
       // gives a wrong angle).
-      const auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q + 1, +1)) : pair(q);
+      auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q + 1, +1)) : pair(q);
       if (!pr || !pr->valley) continue;
+      // Either plate may be a gentle arc near the root (a pipe's section).
+      pr = bent(*pr);
+      if (!pr->valley) continue;
       const Plate& a = pr->a;
       const Plate& b = pr->b;
       // A gap shows as the flange seen beyond the web's line, under its edge.
@@ -3256,9 +3540,27 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
   // The plates' own deviation from lines (waviness, mill scale, noise that
   // is correlated over neighbouring columns) is noise to the templates too:
   // the point-weighted median rms of the long segments.
+  // The noise of single points (Matcher::set_point_sigma), at least the
+  // surface tolerance's floor.
+  const double point_sigma =
+      std::max(out.noise_mm, params_.surface_tol_mm / std::max(1.0, params_.noise.surface_k));
   if (params_.noise.adapt && params_.noise.sigma_mm <= 0.0 && !long_.empty()) {
     rms_.clear();
-    for (int i : long_) rms_.emplace_back(seg_.segments[i].rms_mm, seg_.segments[i].count());
+    for (int i : long_) {
+      const Segment& sg = seg_.segments[i];
+      double rms = sg.rms_mm;
+      // A fillet's plate may be a gentle arc (FilletParams::curved_plates):
+      // its deviation from a line is then its curvature, not noise, and
+      // what counts is its rms about the arc (only a segment its line does
+      // not explain to the noise can be one: fit_quadratic).
+      if (rms > p.fillet.curve_rms_sigma * point_sigma && p.joint == JointType::Fillet && p.fillet.curved_plates) {
+        const QuadFit f = fit_quadratic(std::span<const Vec2>(seg_.points).subspan(sg.first, sg.count()), sg.line,
+                                        sg.centroid, std::numeric_limits<double>::infinity(), point_sigma, p.fillet,
+                                        s_min, std::max(1, sg.count() / 128));
+        if (f.curved) rms = f.rms;
+      }
+      rms_.emplace_back(rms, sg.count());
+    }
     std::sort(rms_.begin(), rms_.end());
     int total = 0, acc = 0;
     for (const auto& [rms, count] : rms_) total += count;
@@ -3290,6 +3592,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
   }
   Candidate best;
   Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_, next_long_);
+  m.set_point_sigma(point_sigma);
   if (!m.run(params_.joint, best, prior)) {
     if (prior && std::isfinite(m.outside_mm())) {
       std::snprintf(buf, sizeof buf, "no joint within %.3g mm of the predicted point (nearest reading %.3g mm away)",

@@ -110,12 +110,16 @@ TEST_CASE("saddle: profiles around the seam put the corner on the analytic curve
         ++worst.tracked;
         const double err = (*res.track_point - q).norm();
         worst.track = std::max(worst.track, err);
-        // The tracker fits straight lines to the two sections. At the crowns
-        // both are straight; elsewhere the main pipe's is an arc (at the
-        // flanks of radius R), and the lines' corner is pulled off the root:
-        // measured up to 0.57 mm on the 4 mm mesh, 0.47 mm on the 1 mm one.
+        // At the crowns both sections are straight; elsewhere the main
+        // pipe's is an arc (at the flanks of radius R), which the fillet
+        // template reads as one (FilletParams::curved_plates): the corner
+        // where the wall meets the arc, measured within 0.013 mm of the
+        // root at every station on both meshes (straight lines only: up to
+        // 0.57 mm off), and the reading accepted.
         const bool crown = std::abs(std::sin(t)) < 1e-9;
-        CHECK(err < (crown ? 0.05 : 0.6));
+        INFO("reason: " << res.reason);
+        CHECK(err < 0.02);
+        CHECK(res.status == tk::TrackStatus::Ok);
         if (crown) worst.track_crown = std::max(worst.track_crown, err);
         worst.angle = std::max(worst.angle, std::abs(res.angle_deg - truth->open_angle_deg));
       }
