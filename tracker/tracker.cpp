@@ -1309,30 +1309,56 @@ class Matcher {
   // the lines' corner), an arc plate's line its tangent there and its
   // surface a circle (below). The pair as it is when neither plate is an
   // arc or the curves do not meet near the lines' corner.
-  Pair bent(const Pair& pr) const {
+  // Plate pl with the long segment just beyond it on side dir (< 0: before
+  // it) joined to it, with their line fit: a gentle arc the segmenter cut
+  // in two (each piece straight to the surface tolerance) is tested whole.
+  // Empty when there is no such segment.
+  std::optional<Plate> joined_beyond(const Plate& pl, int dir) const {
+    const Segment* next = nullptr;
+    for (int q = 0; q < n_long(); ++q) {
+      const Segment& sg = seg(q);
+      if (dir < 0 && sg.last < pl.first) next = &sg;  // the last one before
+      if (dir > 0 && sg.first > pl.last) {
+        next = &sg;
+        break;
+      }
+    }
+    if (!next) return std::nullopt;
+    auto out = plate_of(std::min(pl.first, next->first), std::max(pl.last, next->last));
+    if (out) out->line_rms = -1.0;
+    return out;
+  }
+  Pair bent(const Pair& given) const {
     const FilletParams& fp = p_.fillet;
-    if (!fp.curved_plates) return pr;
-    const bool arc_a = arc(pr.a), arc_b = arc(pr.b);
-    if (!arc_a && !arc_b) return pr;
+    if (!fp.curved_plates) return given;
+    Pair pr = given;
+    bool arc_a = arc(pr.a), arc_b = arc(pr.b);
+    // A plate that is straight alone may be the near piece of an arc cut in
+    // two: the plate with the piece beyond it, when that is an arc.
+    if (!arc_a)
+      if (const auto w = joined_beyond(pr.a, -1); w && arc(*w)) pr.a = *w, arc_a = true;
+    if (!arc_b)
+      if (const auto w = joined_beyond(pr.b, +1); w && arc(*w)) pr.b = *w, arc_b = true;
+    if (!arc_a && !arc_b) return given;
     Vec2 x = pr.x;
     Quad qa, qb;
     for (int pass = 0; pass < 2; ++pass) {
       qa = arc_a ? quad_near(pr.a, x) : Quad{pr.a.line, x};
       qb = arc_b ? quad_near(pr.b, x) : Quad{pr.b.line, x};
-      if (!qa.curved && !qb.curved) return pr;
+      if (!qa.curved && !qb.curved) return given;
       Vec2 y = x;
       bool met = false;
       for (int it = 0; it < 20 && !met; ++it) {
         // Solve [ga; gb] step = (fa, fb) (Cramer's rule).
         const Vec2 ga = qa.grad(y), gb = qb.grad(y);
         const double det = ga.x() * gb.y() - ga.y() * gb.x();
-        if (!(std::abs(det) > std::sin(5.0 * kDeg) * 0.5)) return pr;
+        if (!(std::abs(det) > std::sin(5.0 * kDeg) * 0.5)) return given;
         const double fa = qa.f(y), fb = qb.f(y);
         const Vec2 step((fa * gb.y() - ga.y() * fb) / det, (ga.x() * fb - fa * gb.x()) / det);
         y -= step;
         met = step.norm() < 1e-9;
       }
-      if (!met || !y.allFinite() || (y - pr.x).norm() > 0.5 * fp.curve_window_mm) return pr;
+      if (!met || !y.allFinite() || (y - pr.x).norm() > 0.5 * fp.curve_window_mm) return given;
       x = y;
     }
     Pair out = pr;
@@ -1369,7 +1395,7 @@ class Matcher {
       pl.bend = pl.line.signed_distance(circle->centre) > 0.0 ? 1.0 : -1.0;
       return true;
     };
-    if (!shape(out.a, qa, -1) || !shape(out.b, qb, +1)) return pr;
+    if (!shape(out.a, qa, -1) || !shape(out.b, qb, +1)) return given;
     auto along = [&](const Plate& pl) {
       const Vec2 t = pl.line.direction();
       return t.dot(pl.centroid - x) < 0.0 ? Vec2(-t) : t;
