@@ -1139,6 +1139,12 @@ def print_text(summ, realtime_note=None):
 def plan_from_job(job):
     seams = []
     for s in job["seams"]:
+        if "path" in s:
+            # A curved plan (the saddle scenarios): the C++ master's curved
+            # program (tracker/master.cpp, docs/SIM.md "The pipe saddle") is
+            # not ported here.
+            sys.exit("master.py: seam %d is a curved seam (sim.job's 'path'): this port welds straight seams only; "
+                     "run the scenario with `vts sim --scenario` instead" % (len(seams) + 1))
         seams.append({k: [float(x) for x in s[k]] for k in ("start_mm", "end_mm", "plate_normal", "wall_normal")})
     return seams
 
