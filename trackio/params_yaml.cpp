@@ -45,6 +45,11 @@ const ParamField kFields[] = {
     VTS_PARAM("fillet.angle_deg", {}, params.fillet.angle_deg),
     VTS_PARAM("fillet.gap_mm", {}, params.fillet.gap_mm),
     VTS_PARAM("fillet.web", {}, params.fillet.web),
+    VTS_PARAM("fillet.curved_plates", {}, params.fillet.curved_plates),
+    VTS_PARAM("fillet.curve_window_mm", (Limit{0, kInf, true}), params.fillet.curve_window_mm),
+    VTS_PARAM("fillet.curve_t", (Limit{0, kInf, true}), params.fillet.curve_t),
+    VTS_PARAM("fillet.min_curve_radius", (Limit{0, kInf, true}), params.fillet.min_curve_radius),
+    VTS_PARAM("fillet.curve_rms_sigma", (Limit{0, kInf, true}), params.fillet.curve_rms_sigma),
     VTS_PARAM("corner.angle_deg", {}, params.corner.angle_deg),
     VTS_PARAM("corner.gap_mm", {}, params.corner.gap_mm),
     VTS_PARAM("lap.step_mm", {}, params.lap.step_mm),
@@ -79,6 +84,7 @@ const ParamField kFields[] = {
     VTS_PARAM("confidence.unexplained_points", (Limit{0, 4096}), params.confidence.unexplained_points),
     VTS_PARAM("confidence.unexplained_share", (Limit{0, 1}), params.confidence.unexplained_share),
     VTS_PARAM("confidence.max_plate_rms_sigma", (Limit{0, kInf, true}), params.confidence.max_plate_rms_sigma),
+    VTS_PARAM("confidence.track_interval_mm", (Limit{0, kInf}), params.confidence.track_interval_mm),
 };
 #undef VTS_PARAM
 

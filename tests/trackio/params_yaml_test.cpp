@@ -44,7 +44,9 @@ segmentation:
     break_min_mm: 0.4
     break_ratio: 5
     fit_tol_mm: 0.03
-fillet: {angle_deg: [40, 140], gap_mm: [0, 3.5], web: second}
+fillet: {angle_deg: [40, 140], gap_mm: [0, 3.5], web: second, curved_plates: false, curve_window_mm: 12, curve_t: 4,
+         min_curve_radius: 6, curve_rms_sigma: 1.25}
+confidence: {track_interval_mm: 0.5}
 corner: {angle_deg: [61, 171], gap_mm: [0, 2]}
 lap: {step_mm: [1, 20], gap_mm: [0, 2.5], angle_deg: [50, 130], max_plate_angle_deg: 10, upper_thickness_mm: 3}
 butt: {gap_mm: [0, 4], mismatch_mm: [0, 2], max_plate_angle_deg: 12}
@@ -79,6 +81,12 @@ vgroove: {angle_deg: [30, 110], gap_mm: [0, 4], mismatch_mm: [0, 2], depth_mm: [
   CHECK(p.fillet.angle_deg.max == 140);
   CHECK(p.fillet.gap_mm.max == 3.5);
   CHECK(p.fillet.web == tk::WebSide::Second);
+  CHECK_FALSE(p.fillet.curved_plates);
+  CHECK(p.fillet.curve_window_mm == 12);
+  CHECK(p.fillet.curve_t == 4);
+  CHECK(p.fillet.min_curve_radius == 6);
+  CHECK(p.fillet.curve_rms_sigma == 1.25);
+  CHECK(p.confidence.track_interval_mm == 0.5);
   CHECK(p.corner.angle_deg.min == 61);
   CHECK(p.corner.gap_mm.max == 2);
   CHECK(p.lap.step_mm.min == 1);
