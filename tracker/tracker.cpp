@@ -1324,8 +1324,14 @@ class Matcher {
       }
     }
     if (!next) return std::nullopt;
-    auto out = plate_of(std::min(pl.first, next->first), std::max(pl.last, next->last));
-    if (out) out->line_rms = -1.0;
+    const int first = std::min(pl.first, next->first), last = std::max(pl.last, next->last);
+    const auto f = s_.fit(first, last);
+    if (!f) return std::nullopt;
+    // With its line's rms: arc() takes a joined plate its line explains to
+    // the noise for a line without fitting the quadratic (most plates with a
+    // segment beyond them are straight).
+    Plate out{first, last, f->line, f->centroid};
+    out.line_rms = f->rms_mm;
     return out;
   }
   Pair bent(const Pair& given) const {
