@@ -423,29 +423,31 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     const double a_from = std::clamp(plan.weld_from_mm, 0.0, arc.back());
     const double a_end = arc.back();
     const PlanAt xs = plan_at(a_from), xe = plan_at(a_end);
+    // The tool along the plan from arc `from` to `to`, a step a cycle (a weld
+    // cycle's s counted from `from`), `after` called with each cycle's
+    // events; stops early when it returns false. Returns the arc reached.
+    auto along_plan = [&](double from, double to, Phase phase, const auto& after) {
+      double a = from;
+      while (a < to - 1e-9) {
+        a = std::min(a + step, to);
+        const PlanAt x = plan_at(a);
+        tool = pose_of(x, x.t, x.p);
+        if (!after(tick(k, phase, phase == Phase::Weld ? a - from : 0.0))) break;
+      }
+      return a;
+    };
+    auto go_on = [](const std::vector<Event>&) { return true; };
 
     if (P.open_loop) {
       // The same moves as with the sensor: to the lead-in, along it, then
       // the weld along the plan.
       const PlanAt x0 = plan_at(0.0);
       move_to(k, pose_of(x0, x0.t, x0.p));
-      for (double a = 0.0; a < a_from - 1e-9;) {
-        a = std::min(a + step, a_from);
-        const PlanAt x = plan_at(a);
-        tool = pose_of(x, x.t, x.p);
-        tick(k, Phase::Approach, 0.0);
-      }
+      along_plan(0.0, a_from, Phase::Approach, go_on);
       run.weld_start = tool.translation();
       weave_t = 0.0;
-      double a = a_from;
-      while (a < a_end - 1e-9) {
-        a = std::min(a + step, a_end);
-        const PlanAt x = plan_at(a);
-        tool = pose_of(x, x.t, x.p);
-        tick(k, Phase::Weld, a - a_from);
-      }
+      run.welded_mm = along_plan(a_from, a_end, Phase::Weld, go_on) - a_from;
       run.weld_end = tool.translation();
-      run.welded_mm = a - a_from;
       run.start_found = run.end_found = true;
       run.start_point = xs.p;
       run.end_point = xe.p;
@@ -522,14 +524,11 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
     };
 
     // Along the plan to the weld's start while the sensor measures ahead.
-    for (double a = 0.0; a < a_from - 1e-9 && run.failure.empty() && !stop;) {
-      a = std::min(a + step, a_from);
-      const PlanAt x = plan_at(a);
-      tool = pose_of(x, x.t, x.p);
-      const std::vector<Event> ev = tick(k, Phase::Approach, 0.0);
+    along_plan(0.0, a_from, Phase::Approach, [&](const std::vector<Event>& ev) {
       poll();
       handle(ev);
-    }
+      return run.failure.empty() && !stop;
+    });
     if (!run.failure.empty() || stop) {
       if (run.failure.empty()) run.failure = "the sensor lost the seam before the weld's start";
       run.lost = false;
