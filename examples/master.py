@@ -723,6 +723,7 @@ class SeamRun:
         self.welded_mm = 0.0
         self.points = 0
         self.track_points = []
+        self.max_gap_mm = 0.0  # the largest gap reported with the points accepted as they came
         self.rejected_points = 0
         self.refits = 0
         self.line_point = [0.0, 0.0, 0.0]
@@ -783,6 +784,8 @@ class JointIntake:
             rejected.clear()
         run.points += 1
         run.track_points.append(tp)
+        if j.get("gap_mm") is not None and j["gap_mm"] > run.max_gap_mm:
+            run.max_gap_mm = j["gap_mm"]
         self.last_accepted = tp
         wfs = Pose.from_json(j["world_from_sensor"])
         bps = j.get("break_points_sensor") or []
@@ -1085,6 +1088,7 @@ def seam_metrics_json(m, index):
         "lost": run.lost,
         "failure": run.failure,
         "sensor_rms_mm": m["sensor_rms_mm"],
+        "sensor_max_gap_mm": run.max_gap_mm,
         "points": run.points,
         "rejected_points": run.rejected_points,
         "refits": run.refits,
@@ -1127,9 +1131,10 @@ def print_text(summ, realtime_note=None):
              summ["rate_hz"], summ["speed_mm_s"]))
     for k, m in enumerate(summ["seams"]):
         print("seam %d: search %.1f mm, start error %.3f mm, rms lateral %.3f mm, rms vertical %.3f mm, max %.3f mm, "
-              "end error %.3f mm, welded %.1f mm; sensor track points rms %.4f mm%s%s%s"
+              "end error %.3f mm, welded %.1f mm; sensor track points rms %.4f mm%s%s%s%s"
               % (k + 1, m["search_mm"], m["start_error_mm"], m["rms_lateral_mm"], m["rms_vertical_mm"],
                  m["max_error_mm"], m["end_error_mm"], m["welded_mm"], m["sensor_rms_mm"],
+                 ", largest gap %.2f mm" % m["sensor_max_gap_mm"] if m["sensor_max_gap_mm"] > 0 else "",
                  ", SEAM LOST" if m["lost"] else "", ", failed: " if m["failure"] else "", m["failure"]))
     print("%d profiles, %.1f s simulated in %.2f s" % (summ["profiles"], summ["sim_time_s"], summ["wall_time_s"]))
     if realtime_note:

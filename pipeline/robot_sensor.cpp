@@ -8,12 +8,18 @@ namespace vts {
 
 namespace tk = vts::tracker;
 
-std::optional<Pose> scan_from_reported(const robot::Robot& robot, bool exact_robot,
-                                       const std::function<Pose(const tk::Pose3&)>& part_motion) {
-  if (exact_robot && !part_motion) return std::nullopt;  // a perfect robot is where it says, exactly
+void place_head(VirtualProfileStream& head, const robot::Robot& robot, bool exact_robot, SeamDistortion* distortion) {
   const Pose tcp = robot.tcp();
+  if (distortion) distortion->update(tcp.translation());
+  head.moving_part.reset();
+  if (distortion && !distortion->cell().moving_part.triangles.empty()) head.moving_part = distortion->wall_motion();
+  if (exact_robot && !distortion) {
+    head.actual_from_reported.reset();  // a perfect robot is where it says, exactly
+    return;
+  }
   const Pose actual_from_reported = tcp * robot.reported_tcp().inverse();
-  return part_motion ? Pose(part_motion(tcp).inverse() * actual_from_reported) : actual_from_reported;
+  head.actual_from_reported =
+      distortion ? Pose(distortion->part_motion().inverse() * actual_from_reported) : actual_from_reported;
 }
 
 RobotSensor::RobotSensor(tk::SensorInterface* unit, VirtualProfileStream* head, std::string robot,
@@ -58,7 +64,7 @@ std::vector<tk::Event> RobotSensor::advance(double t, const tk::Pose3& commanded
     if (fault_.empty() && !robot_->fault().empty()) fault_ = "the robot stopped: " + robot_->fault();
     if (!unit_) return;
     const tk::Pose3 reported = robot_->reported_tcp();
-    if (head_) head_->actual_from_reported = scan_from_reported(*robot_, name_ == "perfect", part_motion);
+    if (head_) place_head(*head_, *robot_, name_ == "perfect", distortion);
     for (tk::Event e : unit_->advance(s, reported)) events.push_back(e);
   };
   for (double b : robot_->breaks_before(t)) run_to(b);

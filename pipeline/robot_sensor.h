@@ -14,18 +14,21 @@
 #include <vector>
 
 #include "robot/perfect_robot.h"
+#include "sensor/sim_cell.h"
 #include "sensor/virtual_sensor.h"
 #include "tracker/sensor_interface.h"
 
 namespace vts {
 
-// What a sensor head scans from relative to the pose the robot reports
-// (VirtualProfileStream::actual_from_reported): the real TCP, which an
-// arm's report misses by its absolute error, and the part's motion (the
-// moved part is scanned as the part unmoved from the sensor moved back).
-// Empty when both are exact (a perfect robot, a part that stays).
-std::optional<Pose> scan_from_reported(const robot::Robot& robot, bool exact_robot,
-                                       const std::function<Pose(const tracker::Pose3& tcp)>& part_motion);
+// Places a sensor head for the robot's present pose. actual_from_reported:
+// what the head scans from relative to the pose the robot reports, the real
+// TCP, which an arm's report misses by its absolute error, and the part's
+// motion (the moved part is scanned as the part unmoved from the sensor
+// moved back); empty when both are exact (a perfect robot, a part that
+// stays). moving_part: the box's lift against the plate (set only when the
+// cell has one). `distortion` may be null (the part stays); it is updated
+// with the real TCP.
+void place_head(VirtualProfileStream& head, const robot::Robot& robot, bool exact_robot, SeamDistortion* distortion);
 
 class RobotSensor final : public tracker::SensorInterface {
  public:
@@ -53,10 +56,9 @@ class RobotSensor final : public tracker::SensorInterface {
   const tracker::SequenceCounters& counters() const override;
   std::string error() const override;
 
-  // The part's rigid motion (world) given where the TCP really is, e.g.
-  // thermal distortion (sensor/sim_cell.h SeamDistortion); the sensor scans
-  // the moved part. Empty: the part stays put.
-  std::function<Pose(const tracker::Pose3& tcp)> part_motion;
+  // Thermal distortion (sensor/sim_cell.h), updated with where the TCP
+  // really is; the sensor scans the part as it lies. Null: the part stays.
+  SeamDistortion* distortion = nullptr;
 
   // The TCP where it really was at the end of each advance() (world).
   const std::vector<tracker::Pose3>& actual() const { return actual_; }

@@ -42,6 +42,7 @@ constexpr NumberKey kCellKeys[] = {
     {"tack_length_mm", &SimCellParams::tack_length_mm},
     {"tack_leg_mm", &SimCellParams::tack_leg_mm},
     {"distortion_deg_per_100mm", &SimCellParams::distortion_deg_per_100mm},
+    {"distortion_lift_deg_per_100mm", &SimCellParams::distortion_lift_deg_per_100mm},
     {"lookahead_mm", &SimCellParams::lookahead_mm},
 };
 

@@ -10,6 +10,7 @@
 #include "pipeline/robot_sensor.h"
 #include "robot/arm_robot.h"
 #include "sensor/recorded_sensor.h"
+#include "sensor/reference_source.h"
 #include "sensor/virtual_sensor.h"
 
 namespace vts {
@@ -51,7 +52,15 @@ SimRig make_sim_rig(const SimSpec& spec, const std::function<void(const Profile&
     stream = std::move(rec);
     run.source_name = "replay";
   } else {
-    rig.source = make_source(spec.source, run.scanner, run.cell.mesh);
+    if (!run.cell.moving_part.triangles.empty()) {
+      // The box lifting off the plate: an Embree instance that moves.
+      if (spec.source != SourceKind::Reference)
+        throw std::invalid_argument("distortion_lift_deg_per_100mm: the " + std::string(to_string(spec.source)) +
+                                    " source scans a rigid part; the lifting wall needs source: reference");
+      rig.source = make_reference_source(run.scanner, run.cell.fixed_part, 0, &run.cell.moving_part);
+    } else {
+      rig.source = make_source(spec.source, run.scanner, run.cell.mesh);
+    }
     auto vs = std::make_unique<VirtualProfileStream>(*rig.source, spec.seed);
     if (record) vs->record = record;
     rig.head = vs.get();
@@ -101,8 +110,8 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
   {
     RobotSensor loop(rig.sensor.get(), rig.head, spec.robot, spec.robot_seed);
     SeamDistortion distortion(run.cell);
-    if (spec.cell.distortion_deg_per_100mm != 0.0)
-      loop.part_motion = [&](const Pose& tcp) { return distortion.motion_with_tcp_at(tcp.translation()); };
+    if (spec.cell.distortion_deg_per_100mm != 0.0 || spec.cell.distortion_lift_deg_per_100mm != 0.0)
+      loop.distortion = &distortion;
     run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
     run.actual_tcp = loop.actual();
     run.robot_fault = loop.fault();
@@ -253,6 +262,7 @@ trackio::Json seam_metrics_json(const SeamMetrics& m, int index) {
   j["lost"] = m.lost;
   j["failure"] = m.failure;
   j["sensor_rms_mm"] = m.sensor_rms_mm;
+  j["sensor_max_gap_mm"] = m.sensor_max_gap_mm;
   j["points"] = m.points;
   j["rejected_points"] = m.rejected_points;
   j["refits"] = m.refits;

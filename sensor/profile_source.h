@@ -2,6 +2,7 @@
 // The one interface over the raster emulator (render/) and the ray-cast
 // reference (sensor/), so exporter, viewer, tracker and tests can take either.
 #include <span>
+#include <stdexcept>
 #include <string_view>
 
 #include "sensor/profile.h"
@@ -19,6 +20,12 @@ class ProfileSource {
   // that can batch override this.
   virtual void scan_batch(std::span<const Pose> poses, std::span<Profile> out) {
     for (std::size_t i = 0; i < poses.size(); ++i) scan(poses[i], out[i]);
+  }
+  // Sources built with a moving part (make_reference_source's `moving`):
+  // puts it where the rigid `motion` (world) takes its mesh as given, for
+  // the scans that follow. Others throw std::logic_error.
+  virtual void move_part(const Pose& /*motion*/) {
+    throw std::logic_error("this profile source has no moving part");
   }
   virtual const ScannerDesc& scanner() const = 0;
   virtual std::string_view kind() const = 0;  // "raster" or "reference"

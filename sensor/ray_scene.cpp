@@ -43,13 +43,60 @@ void check(RTCDevice device, const char* what) {
 
 }  // namespace
 
-RayScene::RayScene(const Mesh& mesh, const char* who) {
+namespace {
+
+void check_indices(const Mesh& mesh, const char* who) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (std::uint32_t v : mesh.triangles[t])
       if (v >= mesh.vertices.size())
         throw std::invalid_argument(std::string(who) + ": triangle " + std::to_string(t) +
                                     " uses vertex " + std::to_string(v) + " but the mesh has " +
                                     std::to_string(mesh.vertices.size()) + " vertices");
+}
+
+RTCScene new_scene(RTCDevice device) {
+  RTCScene scene = rtcNewScene(device);
+  check(device, "rtcNewScene");
+  // ROBUST: without it rays lying exactly in the plane of a row of mesh
+  // edges slip between the triangles (docs: shared/notes/stack.md).
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  check(device, "scene setup");
+  return scene;
+}
+
+void attach_mesh(RTCDevice device, RTCScene scene, const Mesh& mesh) {
+  // Embree rejects zero-sized buffers; an empty scene simply misses.
+  if (mesh.vertices.empty() || mesh.triangles.empty()) return;
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  check(device, "rtcNewGeometry");
+  rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), mesh.vertices.size()));
+  auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh.triangles.size()));
+  if (!v || !idx) {
+    rtcReleaseGeometry(geom);
+    check(device, "rtcSetNewGeometryBuffer");
+    throw std::runtime_error("Embree: rtcSetNewGeometryBuffer returned no buffer");
+  }
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) idx[3 * i + k] = mesh.triangles[i][k];
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  check(device, "geometry setup");
+}
+
+}  // namespace
+
+RayScene::RayScene(const Mesh& mesh, const char* who) : RayScene(mesh, Mesh{}, who) {}
+
+RayScene::RayScene(const Mesh& fixed, const Mesh& moving, const char* who) {
+  check_indices(fixed, who);
+  check_indices(moving, who);
 
   // The thread limit (common/parallel.h) bounds Embree's own threads too.
   const std::string config = embree_device_config();
@@ -57,41 +104,42 @@ RayScene::RayScene(const Mesh& mesh, const char* who) {
   if (!device_) vts::check(nullptr, "rtcNewDevice");
   rtcSetDeviceErrorFunction(device_.get(), on_embree_error, nullptr);
 
-  scene_.reset(rtcNewScene(device_.get()));
-  check("rtcNewScene");
-  // ROBUST: without it rays lying exactly in the plane of a row of mesh
-  // edges slip between the triangles (docs: shared/notes/stack.md).
-  rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
-  check("scene setup");
-
-  // Embree rejects zero-sized buffers; an empty scene simply misses.
-  if (!mesh.vertices.empty() && !mesh.triangles.empty()) {
-    RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    check("rtcNewGeometry");
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-        mesh.vertices.size()));
-    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-        mesh.triangles.size()));
-    if (!v || !idx) {
-      rtcReleaseGeometry(geom);
-      check("rtcSetNewGeometryBuffer");
-      throw std::runtime_error("Embree: rtcSetNewGeometryBuffer returned no buffer");
-    }
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-      for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.vertices[i][k];
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-      for (int k = 0; k < 3; ++k) idx[3 * i + k] = mesh.triangles[i][k];
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_.get(), geom);
-    rtcReleaseGeometry(geom);
-    check("geometry setup");
+  scene_.reset(new_scene(device_.get()));
+  attach_mesh(device_.get(), scene_.get(), fixed);
+  if (!moving.triangles.empty()) {
+    // The moving part: a scene of its own, instanced into the main one with
+    // a transform that move_part() changes (Embree's order: the instanced
+    // scene committed, then the instance, then the scene holding it).
+    moving_.reset(new_scene(device_.get()));
+    attach_mesh(device_.get(), moving_.get(), moving);
+    rtcCommitScene(moving_.get());
+    check("rtcCommitScene (moving part)");
+    RTCGeometry inst = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_INSTANCE);
+    check("rtcNewGeometry (instance)");
+    rtcSetGeometryInstancedScene(inst, moving_.get());
+    rtcSetGeometryTimeStepCount(inst, 1);
+    rtcAttachGeometry(scene_.get(), inst);
+    rtcReleaseGeometry(inst);  // the scene holds it
+    instance_ = inst;
+    move_part(Eigen::Isometry3d::Identity());  // commits the scene
+    return;
   }
   rtcCommitScene(scene_.get());
   check("rtcCommitScene");
+}
+
+static_assert(RayScene::kNoInstance == RTC_INVALID_GEOMETRY_ID);
+
+void RayScene::move_part(const Eigen::Isometry3d& motion) {
+  if (!instance_) throw std::logic_error("RayScene::move_part: the scene has no moving part");
+  if (placed_ && motion.matrix() == placed_->matrix()) return;  // a commit costs ~0.1 ms
+  placed_ = motion;
+  const Eigen::Matrix<float, 3, 4> xfm = motion.matrix().topRows<3>().cast<float>();  // column-major
+  rtcSetGeometryTransform(instance_, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm.data());
+  rtcCommitGeometry(instance_);
+  rtcCommitScene(scene_.get());
+  check("move_part");
+  moving_rotation_ = motion.linear().cast<float>();
 }
 
 RayScene::~RayScene() = default;
@@ -123,7 +171,7 @@ bool RayScene::intersect(const Eigen::Vector3f& o, const Eigen::Vector3f& d, flo
   rtcIntersect1(scene_.get(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit.t = rh.ray.tfar;
-  Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  Eigen::Vector3f n = world_normal(Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.hit.instID[0]);
   const float norm = n.norm();
   if (!(norm > 0.0f)) return false;
   n /= norm;

@@ -5,10 +5,16 @@
 // (common/parallel.h). The ray-cast reference (sensor/reference_source.h)
 // casts its column and camera-shadow packets into it; the camera image
 // (sensor/camera_image.h) casts single rays for the laser's bounce.
-// Queries are thread-safe; the scene is immutable once built.
+// Queries are thread-safe. The scene is immutable once built, except for an
+// optional moving part (a second mesh, an instance of its own scene) whose
+// rigid motion move_part() sets between queries, never during them: the
+// sim cell's wall lifting off its plate under thermal distortion
+// (sensor/sim_cell.h).
 #include <memory>
+#include <optional>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "sensor/mesh.h"
 
@@ -16,6 +22,7 @@
 // not need Embree's.
 struct RTCDeviceTy;
 struct RTCSceneTy;
+struct RTCGeometryTy;
 
 namespace vts {
 
@@ -25,6 +32,9 @@ class RayScene {
   // that does not exist, std::runtime_error with Embree's message if Embree
   // fails. An empty mesh gives a scene every ray misses.
   RayScene(const Mesh& mesh_world, const char* who);
+  // `fixed` as above plus `moving`, placed where move_part() last put it
+  // (at first: as given).
+  RayScene(const Mesh& fixed, const Mesh& moving, const char* who);
   ~RayScene();
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;
@@ -44,6 +54,19 @@ class RayScene {
   // Whether anything lies on the ray between tnear and tfar.
   bool occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar) const;
 
+  // Puts the moving part where the rigid `motion` (world) takes its mesh as
+  // given. Not thread-safe against queries. Throws std::logic_error without
+  // a moving part.
+  void move_part(const Eigen::Isometry3d& motion);
+  bool has_moving_part() const { return instance_ != nullptr; }
+  // A hit's geometric normal in world: Embree reports the normal of a hit on
+  // an instance (instID != RTC_INVALID_GEOMETRY_ID) in the instanced mesh's
+  // own frame.
+  Eigen::Vector3f world_normal(const Eigen::Vector3f& ng, unsigned inst_id) const {
+    return inst_id == kNoInstance ? ng : Eigen::Vector3f(moving_rotation_ * ng);
+  }
+  static constexpr unsigned kNoInstance = ~0u;  // RTC_INVALID_GEOMETRY_ID
+
  private:
   struct DeviceDeleter {
     void operator()(RTCDeviceTy* d) const;
@@ -52,7 +75,11 @@ class RayScene {
     void operator()(RTCSceneTy* s) const;
   };
   std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
-  std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;  // released first
+  std::unique_ptr<RTCSceneTy, SceneDeleter> moving_;  // the moving part's own scene
+  std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;   // released first
+  RTCGeometryTy* instance_ = nullptr;          // the moving part in scene_ (owned by it)
+  Eigen::Matrix3f moving_rotation_ = Eigen::Matrix3f::Identity();
+  std::optional<Eigen::Isometry3d> placed_;  // the last move_part()
 };
 
 }  // namespace vts

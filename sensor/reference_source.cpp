@@ -26,10 +26,10 @@ constexpr std::size_t kMinProfilesPerThread = 64;
 
 class ReferenceSource final : public ProfileSource {
  public:
-  ReferenceSource(const ScannerDesc& desc, const Mesh& mesh, int threads)
+  ReferenceSource(const ScannerDesc& desc, const Mesh& mesh, const Mesh& moving, int threads)
       : threads_(static_cast<std::size_t>(threads > 0 ? std::min(threads, thread_limit()) : thread_limit())),
         desc_(desc), dirs_(column_directions(desc)), camera_centre_(camera_model(desc).centre_mm),
-        scene_(mesh, "reference source") {
+        scene_(mesh, moving, "reference source") {
     dirs_d_.reserve(dirs_.size());
     for (const auto& d : dirs_) dirs_d_.push_back(d.cast<double>());
   }
@@ -47,6 +47,9 @@ class ReferenceSource final : public ProfileSource {
     });
   }
 
+  void move_part(const Pose& motion) override {
+    scene_.move_part(motion);  // throws without a moving part
+  }
   const ScannerDesc& scanner() const override { return desc_; }
   std::string_view kind() const override { return "reference"; }
 
@@ -95,7 +98,8 @@ class ReferenceSource final : public ProfileSource {
         const float t = hit ? rh.ray.tfar[k] : kNoHit;
         float cos_incidence = 0.0f;
         if (hit) {
-          const Eigen::Vector3f ng(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+          const Eigen::Vector3f ng =
+              scene_.world_normal(Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]), rh.hit.instID[0][k]);
           const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
           const float norm = ng.norm() * d.norm();
           cos_incidence = norm > 0.0f ? std::abs(ng.dot(d)) / norm : 0.0f;
@@ -178,10 +182,10 @@ class ReferenceSource final : public ProfileSource {
 }  // namespace
 
 std::unique_ptr<ProfileSource> make_reference_source(const ScannerDesc& desc,
-                                                     const Mesh& mesh_world, int threads) {
+                                                     const Mesh& mesh_world, int threads, const Mesh* moving) {
   if (const std::string why = validate(desc); !why.empty())
     throw std::invalid_argument("reference source: scanner " + why);
-  return std::make_unique<ReferenceSource>(desc, mesh_world, threads);
+  return std::make_unique<ReferenceSource>(desc, mesh_world, moving ? *moving : Mesh{}, threads);
 }
 
 }  // namespace vts

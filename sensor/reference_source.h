@@ -25,7 +25,12 @@ namespace vts {
 // Throws std::invalid_argument if validate(desc) fails or a triangle indexes a
 // vertex that does not exist, std::runtime_error with Embree's message if
 // Embree fails.
+//
+// `moving`, when given and not empty, is a part that moves against the rest
+// (RayScene's moving part): move_part() places it before the scans that
+// follow (never during a batch).
 std::unique_ptr<ProfileSource> make_reference_source(const ScannerDesc& desc,
-                                                     const Mesh& mesh_world, int threads = 0);
+                                                     const Mesh& mesh_world, int threads = 0,
+                                                     const Mesh* moving = nullptr);
 
 }  // namespace vts

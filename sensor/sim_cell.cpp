@@ -172,6 +172,19 @@ std::string validate(const SimCellParams& p) {
     return field_error("tack_spacing_mm", p.tack_spacing_mm, "must be 0 (no tacks) or at least 10 mm");
   if (!std::isfinite(p.distortion_deg_per_100mm) || std::abs(p.distortion_deg_per_100mm) > 5.0)
     return field_error("distortion_deg_per_100mm", p.distortion_deg_per_100mm, "must be between -5 and 5 degrees");
+  if (!std::isfinite(p.distortion_lift_deg_per_100mm) || p.distortion_lift_deg_per_100mm < 0.0 ||
+      p.distortion_lift_deg_per_100mm > 5.0)
+    return field_error("distortion_lift_deg_per_100mm", p.distortion_lift_deg_per_100mm,
+                       "must be between 0 and 5 degrees");
+  if (p.distortion_lift_deg_per_100mm != 0.0) {
+    const std::pair<const char*, double> plain_box[] = {
+        {"seam1_short_mm", p.seam1_short_mm}, {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
+        {"seam1_bow_mm", p.seam1_bow_mm},     {"seam1_wave_mm", p.seam1_wave_mm},
+        {"tack_spacing_mm", p.tack_spacing_mm}};
+    for (const auto& [f, v] : plain_box)
+      if (v != 0.0)
+        return field_error(f, v, "must be 0 with distortion_lift_deg_per_100mm (the lift is modelled on the plain box)");
+  }
   if (!std::isfinite(p.tack_first_mm) || p.tack_first_mm < 0.0)
     return field_error("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
   if (!std::isfinite(p.tack_length_mm) || p.tack_length_mm <= 0.0 || p.tack_length_mm > 50.0)
@@ -183,7 +196,8 @@ std::string validate(const SimCellParams& p) {
     const std::pair<const char*, double> box_only[] = {
         {"seam1_short_mm", p.seam1_short_mm},   {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
         {"seam1_bow_mm", p.seam1_bow_mm},       {"seam1_wave_mm", p.seam1_wave_mm},
-        {"tack_spacing_mm", p.tack_spacing_mm}, {"distortion_deg_per_100mm", p.distortion_deg_per_100mm}};
+        {"tack_spacing_mm", p.tack_spacing_mm}, {"distortion_deg_per_100mm", p.distortion_deg_per_100mm},
+        {"distortion_lift_deg_per_100mm", p.distortion_lift_deg_per_100mm}};
     for (const auto& [f, v] : box_only)
       if (v != 0.0) return field_error(f, v, "is a disturbance of the box: must be 0 on the saddle");
     // The laser plane, lookahead_mm ahead along the tangent, must still cut
@@ -258,7 +272,12 @@ SimCell build_sim_cell(const SimCellParams& p) {
       bowed.emplace_back(x, y);
     }
   }
-  if (bowed.empty()) {
+  if (p.distortion_lift_deg_per_100mm != 0.0) {
+    // The plain box (validate), kept apart so that it can lift off the plate.
+    cell.fixed_part = cell.mesh;
+    cell.moving_part = plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box);
+    cell.mesh.append(cell.moving_part);
+  } else if (bowed.empty()) {
     cell.mesh.append(plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
   } else {
     // The box behind the wall (from 5 mm inside the wall's innermost point
@@ -351,11 +370,14 @@ SimCell build_sim_cell(const SimCellParams& p) {
     }
   }
 
-  if (p.distortion_deg_per_100mm != 0.0) {
-    // Seam 2 as the part lies once seam 1 is welded to its end.
+  if (p.distortion_deg_per_100mm != 0.0 || p.distortion_lift_deg_per_100mm != 0.0) {
+    // Seam 2 as the part lies once seam 1 is welded to its end. The lift
+    // turns its wall about its own foot (the axis through seam 1's end):
+    // only the wall's normal changes.
     SeamDistortion d(cell);
     d.update(cell.truth[0].end + 1.0 * cell.truth[0].direction());
     const Pose m = d.part_motion();
+    cell.truth[1].wall_normal = d.wall_motion().linear() * cell.truth[1].wall_normal;
     SimSeamTruth& t = cell.truth[1];
     t.start = m * t.start;
     t.end = m * t.end;
@@ -367,7 +389,9 @@ SimCell build_sim_cell(const SimCellParams& p) {
 }
 
 SeamDistortion::SeamDistortion(const SimCell& cell)
-    : cell_(&cell), rate_deg_per_mm_(cell.params.distortion_deg_per_100mm / 100.0) {}
+    : cell_(&cell),
+      rate_deg_per_mm_(cell.params.distortion_deg_per_100mm / 100.0),
+      lift_deg_per_mm_(cell.params.distortion_lift_deg_per_100mm / 100.0) {}
 
 void SeamDistortion::update(const Vec3& tcp) {
   const SimSeamTruth& t = cell_->truth[0];
@@ -376,6 +400,20 @@ void SeamDistortion::update(const Vec3& tcp) {
 }
 
 double SeamDistortion::angle_deg() const { return rate_deg_per_mm_ * s_; }
+double SeamDistortion::lift_deg() const { return lift_deg_per_mm_ * s_; }
+
+Pose SeamDistortion::wall_motion() const {
+  Pose m = Pose::Identity();
+  if (lift_deg_per_mm_ == 0.0 || s_ <= 0.0) return m;
+  const SimSeamTruth& t = cell_->truth[0];
+  const Vec3 a = t.wall_normal, d = t.direction();
+  // Positive about the wall's normal: the seam ahead turns out of the plate.
+  const double sign = a.cross(d).dot(t.plate_normal) >= 0.0 ? 1.0 : -1.0;
+  const Vec3 pivot = t.start + s_ * d;
+  m.linear() = Eigen::AngleAxisd(sign * lift_deg() * kDeg, a).toRotationMatrix();
+  m.translation() = pivot - m.linear() * pivot;
+  return m;
+}
 
 Pose SeamDistortion::part_motion() const {
   Pose m = Pose::Identity();
@@ -493,6 +531,7 @@ std::vector<SeamMetrics> evaluate(const SimCell& cell, const tracker::MasterResu
     m.points = run.points;
     m.rejected_points = run.rejected_points;
     m.refits = run.refits;
+    m.sensor_max_gap_mm = run.max_gap_mm;
     double sl = 0.0, sv = 0.0;
     std::size_t first_weld = samples.size(), last_weld = samples.size();
     for (std::size_t i = 0; i < samples.size(); ++i) {

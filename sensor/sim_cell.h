@@ -72,6 +72,13 @@ struct SimCellParams {
   // ahead of the arc turns about the plate normal through the arc's point
   // by this much per 100 mm welded, its far end towards seam 1's open side.
   double distortion_deg_per_100mm = 0.0;
+  // and the box's wall lifts off the plate ahead of the arc: the box turns
+  // about the axis square to seam 1's wall through the seam's point at the
+  // arc by this much per 100 mm welded, its far end up, so that the gap
+  // under the wall at u mm ahead of the arc is u sin(lift) (SeamDistortion).
+  // Needs the plain box (no bow, wave, gap rise, shortening or tacks) and
+  // the ray-cast reference source (the moving wall is an Embree instance).
+  double distortion_lift_deg_per_100mm = 0.0;
   // Sensor mount: the laser plane lookahead_mm ahead of the TCP, the laser
   // origin standoff_mm back along the torch axis (= the optical axis).
   double lookahead_mm = 50.0;
@@ -114,6 +121,9 @@ struct SimCell {
   std::vector<SimSeamTruth> truth;      // the actual seams, world
   std::vector<TackSpan> tacks;
   Mesh mesh;                            // the actual workpiece, world
+  // With a lift (distortion_lift_deg_per_100mm): `mesh` split into the part
+  // that stays (the plate) and the box that lifts off it; else both empty.
+  Mesh fixed_part, moving_part;
   Pose tool_from_laser = Pose::Identity();
 };
 
@@ -131,6 +141,12 @@ SimCell build_sim_cell(const SimCellParams& params);
 // on its truth, but the sensor 50 mm ahead sees the seam displaced by
 // theta x 50 mm, where it will not be once the torch gets there. After
 // seam 1, seam 2 is turned by theta(L1) about seam 1's end (its start).
+// With a lift (SimCellParams::distortion_lift_deg_per_100mm) the box also
+// turns against the plate by phi(s) = lift rate * s / 100 mm about the axis
+// through the seam's point at s square to seam 1's wall, its far end up: the
+// wall's foot u mm ahead of the arc stands (u - s) sin phi above the plate
+// (the gap the sensor sees) and the wall's face stays in its plane, so the
+// root line (the truth) does not move; behind the arc the weld holds it.
 class SeamDistortion {
  public:
   explicit SeamDistortion(const SimCell& cell);
@@ -138,18 +154,19 @@ class SeamDistortion {
   // projection onto the seam, never going back.
   void update(const Vec3& tcp);
   double welded_mm() const { return s_; }
+  const SimCell& cell() const { return *cell_; }
   double angle_deg() const;
+  double lift_deg() const;
   // The part's rigid motion now (world): where its points have moved to.
   Pose part_motion() const;
-  // update(tcp), then part_motion(): what a sensor scanning the part needs.
-  Pose motion_with_tcp_at(const Vec3& tcp) {
-    update(tcp);
-    return part_motion();
-  }
+  // The box's motion against the plate now (world, before part_motion()):
+  // the lift; identity without one.
+  Pose wall_motion() const;
 
  private:
   const SimCell* cell_;
   double rate_deg_per_mm_ = 0.0;
+  double lift_deg_per_mm_ = 0.0;
   double s_ = 0.0;
 };
 
@@ -184,6 +201,8 @@ struct SeamMetrics {
   // The sensor's own accuracy: rms distance of the track points the master
   // accepted from the true seam line (before the seam object's fit).
   double sensor_rms_mm = 0.0;
+  // The largest gap the sensor reported on the seam (SeamRun::max_gap_mm).
+  double sensor_max_gap_mm = 0.0;
 };
 
 // TCP error against a seam: lateral, vertical (mm), and the nearest point of

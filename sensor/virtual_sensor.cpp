@@ -18,6 +18,7 @@ VirtualProfileStream::VirtualProfileStream(ProfileSource& source, std::uint64_t 
 bool VirtualProfileStream::acquire(std::int64_t index, double time_s, const Pose& world_from_tool,
                                    tracker::SensorProfile& out) {
   const Pose pose = world_from_tool * source_.scanner().tool_from_laser;
+  if (moving_part) source_.move_part(*moving_part);
   source_.scan(actual_from_reported ? Pose(*actual_from_reported * pose) : pose, ideal_);
   ideal_.world_from_sensor = pose;
   ideal_.time_s = time_s;

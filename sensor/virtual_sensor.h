@@ -35,6 +35,9 @@ class VirtualProfileStream final : public tracker::ProfileStream {
   // keeps the reported pose, as a real sensor's data are stamped with the
   // controller's idea of its pose. Empty: the reported pose is the actual one.
   std::optional<Pose> actual_from_reported;
+  // Where the source's moving part lies (ProfileSource::move_part, in the
+  // frame the sensor scans in): set, it is placed there before each scan.
+  std::optional<Pose> moving_part;
 
   const ScanState& scan_state() const { return state_; }
   const Profile& last_measured() const { return measured_; }

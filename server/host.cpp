@@ -49,10 +49,8 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home = cell_->cell.path.pose_at(0) * cell_->scanner.tool_from_laser.inverse();
   } else {
     box_.emplace(make_sim_rig(options.sim));
-    if (options.sim.cell.distortion_deg_per_100mm != 0.0) {
+    if (options.sim.cell.distortion_deg_per_100mm != 0.0 || options.sim.cell.distortion_lift_deg_per_100mm != 0.0)
       distortion_.emplace(box_->run.cell);
-      part_motion_ = [this](const Pose3& tcp) { return distortion_->motion_with_tcp_at(tcp.translation()); };
-    }
     // Where the master's first move will take it from: the nominal
     // workpiece origin, 200 mm up, torch down.
     home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
@@ -156,7 +154,7 @@ Json CellHost::step(double to_s) {
     // The sensor's data are stamped with the pose the controller reports;
     // it scans where the arm really is.
     const Pose3 reported = robot_->reported_tcp();
-    if (head_) head_->actual_from_reported = scan_from_reported(*robot_, !arm_, part_motion_);
+    if (head_) place_head(*head_, *robot_, !arm_, distortion_ ? &*distortion_ : nullptr);
     const std::vector<tk::Event> ev = sensor().advance(t, reported);
     for (tk::Event e : ev) {
       if (e != tk::Event::StreamEnded) continue;  // the others came through on_profile

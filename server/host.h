@@ -91,7 +91,6 @@ class CellHost {
   HostOptions options_;
   std::optional<SimRig> box_;    // the box cell (its thermal distortion in distortion_), or
   std::optional<SeamDistortion> distortion_;
-  std::function<Pose(const Pose3&)> part_motion_;  // the distortion's, or empty
   std::optional<CellRig> cell_;  // another cell
   // The virtual sensor head behind the unit, told where an arm really is
   // (VirtualProfileStream::actual_from_reported); null on a replay.

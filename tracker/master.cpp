@@ -487,6 +487,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
         rejected.clear();
         ++run.points;
         run.track_points.push_back(p);
+        if (j->gap_mm > run.max_gap_mm) run.max_gap_mm = j->gap_mm;  // false for NaN
         return;
       }
       ++run.rejected_points;
@@ -758,6 +759,7 @@ MasterResult Master::run(SensorInterface& sensor, const Pose3& world_from_workpi
       }
       ++run.points;
       run.track_points.push_back(j->track_point_world);
+      if (j->gap_mm > run.max_gap_mm) run.max_gap_mm = j->gap_mm;  // false for NaN
       last_accepted = j->track_point_world;
       // The two surfaces' directions from the root (break points 0 and 4:
       // the two plates' outer ends), for re-calibration.

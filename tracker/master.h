@@ -137,6 +137,9 @@ struct SeamRun {
   double welded_mm = 0.0;
   int points = 0;           // joint data accepted into the seam object
   std::vector<Vec3> track_points;  // those points (world), in order of arrival
+  // The largest gap the sensor reported with the joint data accepted as
+  // they came (not those taken back in by a refit); 0 if none was measured.
+  double max_gap_mm = 0.0;
   int rejected_points = 0;  // joint data gated out
   int refits = 0;           // times the seam object was started again (refit_after_rejections)
   // The seam object's line at the end: point and unit direction, world.

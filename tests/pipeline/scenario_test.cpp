@@ -12,6 +12,7 @@
 
 #include "pipeline/scenario.h"
 #include "pipeline/sim_run.h"
+#include "sensor/ray_scene.h"
 #include "sensor/sim_cell.h"
 #include "tracker/master.h"
 
@@ -34,6 +35,14 @@ SimCellParams undisplaced() {
   p.offset_mm = 0.0;
   p.rotation_deg = 0.0;
   return p;
+}
+
+// Whether a ray cast at the wall from the open side 0.05 mm above the plate
+// at `foot` meets it.
+bool hits_wall_behind(const vts::RayScene& scene, const Vec3& foot, const Vec3& n, const Vec3& a) {
+  const Vec3 o = foot + 0.05 * n + 2.0 * a;
+  vts::RayScene::Hit hit;
+  return scene.intersect(o.cast<float>(), (-a).cast<float>(), 0.0f, 10.0f, hit);
 }
 
 }  // namespace
@@ -189,6 +198,52 @@ TEST_CASE("sim cell: thermal distortion turns the part ahead of the arc about th
   CHECK((s2.end - s2_plain.end).norm() == Approx(2.0 * 150.0 * std::sin(0.75 * std::numbers::pi / 180.0)).epsilon(1e-6));
 }
 
+TEST_CASE("sim cell: a thermal lift opens the gap under the wall ahead of the arc by x tan(phi)", "[sim]") {
+  SimCellParams p = undisplaced();
+  p.distortion_lift_deg_per_100mm = 1.0;
+  const SimCell cell = build_sim_cell(p);
+  REQUIRE_FALSE(cell.moving_part.triangles.empty());
+  REQUIRE(cell.fixed_part.triangles.size() + cell.moving_part.triangles.size() == cell.mesh.triangles.size());
+  const SimSeamTruth& t = cell.truth[0];
+  const SimSeamTruth plain = build_sim_cell(undisplaced()).truth[0];
+  CHECK((t.start - plain.start).norm() < 1e-12);  // the root line is the box's
+  const Vec3 d = t.direction(), n = t.plate_normal, a = t.wall_normal;
+  SeamDistortion dist(cell);
+  CHECK(dist.wall_motion().isApprox(Pose::Identity()));
+  dist.update(t.start + 60.0 * d + 0.3 * n);
+  CHECK(dist.lift_deg() == Approx(0.6));
+  CHECK(dist.part_motion().isApprox(Pose::Identity()));  // no turn asked for
+  const Pose m = dist.wall_motion();
+  // The wall's face stays in its plane; the point at the arc stays.
+  const Vec3 at = t.start + 60.0 * d;
+  CHECK((m * at - at).norm() < 1e-9);
+  CHECK((m.linear() * a - a).norm() < 1e-12);
+  // Where the box's bottom face lies x mm ahead of the arc (horizontally):
+  // x tan(phi) above the plate, found by rays cast at the wall from the open
+  // side, 2 mm away, at heights around it (those below pass under the wall).
+  vts::RayScene scene(cell.fixed_part, cell.moving_part, "test");
+  scene.move_part(m);
+  const double phi = 0.6 * std::numbers::pi / 180.0;
+  for (double x : {20.0, 50.0, 80.0}) {
+    const double gap = x * std::tan(phi);
+    auto hits_wall = [&](double z) {
+      const Vec3 o = at + x * d + z * n + 2.0 * a;
+      vts::RayScene::Hit hit;
+      const bool h = scene.intersect(o.cast<float>(), (-a).cast<float>(), 0.0f, 10.0f, hit);
+      if (h) {
+        CHECK(hit.t == Approx(2.0).margin(1e-3));
+        CHECK(std::abs(hit.normal.cast<double>().dot(a)) == Approx(1.0).margin(1e-6));
+      }
+      return h;
+    };
+    INFO("x = " << x << " mm ahead, gap " << gap << " mm");
+    CHECK(hits_wall(gap + 0.005));
+    CHECK_FALSE(hits_wall(gap - 0.005));
+  }
+  // Behind the arc the weld holds it: no gap.
+  CHECK(hits_wall_behind(scene, at - 20.0 * d, n, a));
+}
+
 TEST_CASE("open loop: a perfect robot's error is the distance between the planned and the true seam lines", "[sim]") {
   SimSpec spec;
   spec.source = SourceKind::Reference;
@@ -233,6 +288,10 @@ TEST_CASE("scenario files: bad values name the file, line and key", "[sim]") {
   CHECK(error_of("workpiece: cylinder\n") == "s.yaml:1: workpiece: workpiece = 'cylinder': expected box or saddle");
   CHECK(error_of("main_radius_mm: 150\n").find("s.yaml:1: main_radius_mm: main_radius_mm: only with workpiece: saddle") == 0);
   CHECK(error_of("workpiece: saddle\nbranch_radius_mm: 120\n").find("branch_radius_mm") != std::string::npos);
+  CHECK(error_of("distortion_lift_deg_per_100mm: 1\nseam1_bow_mm: 10\n").find("seam1_bow_mm = 10: must be 0 with "
+                                                                              "distortion_lift_deg_per_100mm") !=
+        std::string::npos);
+  CHECK(error_of("distortion_lift_deg_per_100mm: -1\n").find("distortion_lift_deg_per_100mm") != std::string::npos);
   CHECK_THROWS_AS(builtin_scenario("no-such"), ScenarioError);
   CHECK_THROWS_AS(load_scenario("/nonexistent/x.yaml"), ScenarioError);
 }
@@ -251,6 +310,16 @@ TEST_CASE("every built-in scenario reaches the verdict its file expects, and the
     const SimRun run = run_sim(sc.spec);
     const std::string reason = scenario_failure(run);
     INFO(name << ": " << reason);
+    if (name == "thermal-gap") {
+      // The sensor, 50 mm ahead, sees the gap 50 tan(phi) of a wall lifted
+      // by phi = s / 100 mm degrees, s <= 100 mm while the laser is on seam 1:
+      // at most 0.873 mm (with the noise), and none under seam 2's wall,
+      // which turns about its own foot.
+      REQUIRE(run.metrics.size() == 2);
+      CHECK(run.metrics[0].sensor_max_gap_mm > 0.5);
+      CHECK(run.metrics[0].sensor_max_gap_mm < 50.0 * std::tan(std::numbers::pi / 180.0) + 0.05);
+      CHECK(run.metrics[1].sensor_max_gap_mm < 0.1);
+    }
     if (sc.expect_pass) {
       CHECK(reason.empty());
       bool beaten = !run.open_loop_metrics.empty();
