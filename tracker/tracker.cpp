@@ -917,10 +917,23 @@ class Matcher {
     PointSums sums;
     for (int i = pl.first; i <= pl.last; ++i)
       if (pl.line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    return cov_of(pl.line, sums);
+  }
+  // The same for a line fitted to the points of `sums` (relative to s_.ref_).
+  LineCov cov_of(const Line& line, const PointSums& sums) const {
     const Moments m = s_.moments(sums);
-    LineCov lc = line_cov(pl.line, m, residual_variance(pl.line, m, sigma_ * sigma_, kPriorDof));
+    LineCov lc = line_cov(line, m, residual_variance(line, m, sigma_ * sigma_, kPriorDof));
     lc.var_angle = std::min(lc.var_angle, 1e6);
     return lc;
+  }
+  // The covariance of a point x on plate pl's line placed along it by
+  // something of covariance `cov` (of which only the part along the line
+  // counts): across the line the line's own (a butt's or a lap's track
+  // point on the lower plate).
+  Eigen::Matrix2d on_plate_cov(const Plate& pl, const Vec2& x, const Eigen::Matrix2d& cov) const {
+    const Vec2 d = pl.line.direction(), n = pl.line.n;
+    const Eigen::Matrix2d along = d * d.transpose();
+    return along * cov * along + cov_of(pl).across_var(x) * n * n.transpose();
   }
   // The covariance of a point q = p + J_o o + J_a a moved by a line's
   // offset o and angle a (LineCov, independent).
@@ -1674,6 +1687,10 @@ class Matcher {
         if (wf && wt) {
           const Line& wl = wall->line;
           foot = *wf;
+          // The track point: the face's line and the lower plate's meeting.
+          PointSums face;
+          for (const Vec2& q : scratch_) face.add(q - s_.ref_);
+          c.track_cov = intersection_cov(cov_of(wl, face), cov_of(lower), foot), c.located = true;
           top = *wt;
           c.angle = angle_between_deg(lower.centroid - foot, top - foot);
           // A gap shows as the lower plate seen beyond the face's line.
@@ -1723,6 +1740,8 @@ class Matcher {
           top = e.point;
           c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);
+          // Along the lower plate the upper plate's edge, across it its line.
+          c.track_cov = on_plate_cov(lower, foot, e.cov), c.located = true;
           if (lp.upper_thickness_mm > 0.0) {
             bottom = top - lp.upper_thickness_mm * upper.line.n;
             c.gap = lower.line.signed_distance(*bottom);
@@ -1927,14 +1946,9 @@ class Matcher {
     c.edge_unc = el.half_width_mm + er.half_width_mm;
     c.track_unc = 0.5 * c.edge_unc;
     c.track = lower.line.project(0.5 * (el.point + er.point));
-    {
-      // Along the lower plate the edges' midpoint, across it the plate's line.
-      const Vec2 d = lower.line.direction();
-      const Eigen::Matrix2d along = d * d.transpose();
-      c.track_cov = 0.25 * along * (el.cov + er.cov) * along +
-                    cov_of(lower).across_var(*c.track) * lower.line.n * lower.line.n.transpose();
-      c.located = true;
-    }
+    // Along the lower plate the edges' midpoint, across it the plate's line.
+    c.track_cov = on_plate_cov(lower, *c.track, 0.25 * (el.cov + er.cov));
+    c.located = true;
     c.bp[0] = outer(a, pt(a.first));
     c.bp[1] = el.point;
     c.bp[2] = c.track;
