@@ -913,14 +913,28 @@ class Matcher {
   // as known to 1000 radians.
   static constexpr double kPriorDof = 2.0;
   static constexpr double kOutlierSigma = 5.0;
-  LineCov cov_of(const Plate& pl) const {
+  LineCov cov_of(const Plate& pl) const { return cov_of(pl.line, pl.first, pl.last); }
+  LineCov cov_of(const Line& line, int first, int last) const {
     PointSums sums;
-    for (int i = pl.first; i <= pl.last; ++i)
-      if (pl.line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    for (int i = first; i <= last; ++i)
+      if (line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    return cov_of(line, sums);
+  }
+  // The same for a line fitted to the points of `sums` (relative to s_.ref_).
+  LineCov cov_of(const Line& line, const PointSums& sums) const {
     const Moments m = s_.moments(sums);
-    LineCov lc = line_cov(pl.line, m, residual_variance(pl.line, m, sigma_ * sigma_, kPriorDof));
+    LineCov lc = line_cov(line, m, residual_variance(line, m, sigma_ * sigma_, kPriorDof));
     lc.var_angle = std::min(lc.var_angle, 1e6);
     return lc;
+  }
+  // The covariance of a point x on plate pl's line placed along it by
+  // something of covariance `cov` (of which only the part along the line
+  // counts): across the line the line's own (a butt's or a lap's track
+  // point on the lower plate).
+  Eigen::Matrix2d on_plate_cov(const Plate& pl, const Vec2& x, const Eigen::Matrix2d& cov) const {
+    const Vec2 d = pl.line.direction(), n = pl.line.n;
+    const Eigen::Matrix2d along = d * d.transpose();
+    return along * cov * along + cov_of(pl).across_var(x) * n * n.transpose();
   }
   // The covariance of a point q = p + J_o o + J_a a moved by a line's
   // offset o and angle a (LineCov, independent).
@@ -1005,13 +1019,19 @@ class Matcher {
   // The same from an end point given by its position.
   // Rounded or chamfered edges are looked for (rounding()) unless `sharp`
   // (a bevel's root edge: its root face falls away from the bevel too).
+  // The edge lies at most `max_width` past the end point's foot (where what
+  // is seen beyond bounds it more closely than the next ray). `line_cov`:
+  // how precisely the plate's line is known, if not from its points
+  // (cov_of).
   Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
                std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false,
-               bool prep_not_faces = false) const {
+               bool prep_not_faces = false, double max_width = std::numeric_limits<double>::infinity(),
+               const LineCov* line_cov = nullptr) const {
     const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
-    if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0) far = *x;
+    if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0)
+      far = (*x - near).dot(dir) > max_width ? Vec2(near + max_width * dir) : *x;
     double width = (far - near).dot(dir);
     // A rounded or chamfered edge: the points in the columns right beyond
     // the plate's end fall away behind its line, moving on along it. The
@@ -1050,7 +1070,7 @@ class Matcher {
         // The faces' feet move with the plate's line along the face; each
         // face point has the profile's noise.
         const Vec2 e = sum / k, g = *face_dir / den;
-        const LineCov lc = cov_of(pl);
+        const LineCov lc = line_cov ? *line_cov : cov_of(pl);
         const double u = (e - lc.mean).dot(lc.direction());
         return Edge{e, 0.0, moved(lc, g, u * g) + sigma_ * sigma_ / k * Eigen::Matrix2d::Identity()};
       }
@@ -1060,7 +1080,7 @@ class Matcher {
     // along that ray; the end point's own noise (along its ray, the
     // profile's noise) moves its foot along the line; the interval the edge
     // can lie in counts as a uniform spread (its half width h: h^2 / 3).
-    const LineCov lc = cov_of(pl);
+    const LineCov lc = line_cov ? *line_cov : cov_of(pl);
     const Vec2 n = pl.line.n, d = pl.line.direction();
     const Vec2 ray = ray_dir(beyond_col);
     const double end_var = sigma_ * sigma_ * ray.dot(d) * ray.dot(d);
@@ -1674,6 +1694,10 @@ class Matcher {
         if (wf && wt) {
           const Line& wl = wall->line;
           foot = *wf;
+          // The track point: the face's line and the lower plate's meeting.
+          PointSums face;
+          for (const Vec2& q : scratch_) face.add(q - s_.ref_);
+          c.track_cov = intersection_cov(cov_of(wl, face), cov_of(lower), foot), c.located = true;
           top = *wt;
           c.angle = angle_between_deg(lower.centroid - foot, top - foot);
           // A gap shows as the lower plate seen beyond the face's line.
@@ -1723,6 +1747,8 @@ class Matcher {
           top = e.point;
           c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);
+          // Along the lower plate the upper plate's edge, across it its line.
+          c.track_cov = on_plate_cov(lower, foot, e.cov), c.located = true;
           if (lp.upper_thickness_mm > 0.0) {
             bottom = top - lp.upper_thickness_mm * upper.line.n;
             c.gap = lower.line.signed_distance(*bottom);
@@ -1927,14 +1953,9 @@ class Matcher {
     c.edge_unc = el.half_width_mm + er.half_width_mm;
     c.track_unc = 0.5 * c.edge_unc;
     c.track = lower.line.project(0.5 * (el.point + er.point));
-    {
-      // Along the lower plate the edges' midpoint, across it the plate's line.
-      const Vec2 d = lower.line.direction();
-      const Eigen::Matrix2d along = d * d.transpose();
-      c.track_cov = 0.25 * along * (el.cov + er.cov) * along +
-                    cov_of(lower).across_var(*c.track) * lower.line.n * lower.line.n.transpose();
-      c.located = true;
-    }
+    // Along the lower plate the edges' midpoint, across it the plate's line.
+    c.track_cov = on_plate_cov(lower, *c.track, 0.25 * (el.cov + er.cov));
+    c.located = true;
     c.bp[0] = outer(a, pt(a.first));
     c.bp[1] = el.point;
     c.bp[2] = c.track;
@@ -2408,6 +2429,7 @@ class Matcher {
   struct Wall {
     int first = 0, last = 0;  // point indices, scan order
     Line line;
+    PointSums sums;  // its points (relative to the segmentation's reference)
   };
   std::optional<Wall> wall_below(const Plate& top, int end, int dir, int stop) const {
     const GrooveParams& gp = p_.groove;
@@ -2434,8 +2456,8 @@ class Matcher {
     if (pick >= 0) {
       k = pick;
       const Segment& sg = s_.segments[k];
-      Wall w{sg.first, sg.last, sg.line};
-      PointSums sums = sg.sums;
+      Wall w{sg.first, sg.last, sg.line, sg.sums};
+      PointSums& sums = w.sums;
       // Past up to two pieces of at most 8 points off its line (a reflection
       // cluster on the wall), to the next segment on it.
       int skipped = 0;
@@ -2498,22 +2520,30 @@ class Matcher {
     // square wall the top's edge (between the rays) with the wall through it,
     // square to the top.
     double unc = 0.0;
-    auto top_edge = [&](const Plate& top, const std::optional<Wall>& w, int end, int beyond_col,
-                        Line& wall) -> std::optional<Vec2> {
+    // `wall_cov`: how precisely the wall's line is known (docs/JOINTS.md
+    // "Localization"): from its points, or for a hidden square wall from
+    // the top's edge (its offset, along the top) and the top's direction.
+    auto top_edge = [&](const Plate& top, const std::optional<Wall>& w, int end, int beyond_col, Line& wall,
+                        LineCov& wall_cov) -> std::optional<Vec2> {
       if (w) {
         wall = w->line;
+        wall_cov = cov_of(w->line, w->sums);
         return intersect(top.line, wall, 0.1);
       }
       const Edge e = edge_at(top, pt(end), beyond_col, nullptr, {});
       wall.n = top.line.direction();
       wall.c = wall.n.dot(e.point);
       wall.orient_towards(origin_);
+      wall_cov.mean = e.point, wall_cov.n = wall.n;
+      wall_cov.var_offset = wall.n.dot(e.cov * wall.n);
+      wall_cov.var_angle = cov_of(top).var_angle;
       unc += e.half_width_mm;
       return e.point;
     };
     Line la, lb;
-    const auto e1 = top_edge(a, wa, a.last, s_.cols[a.last] + 1, la);
-    const auto e5 = top_edge(b, wb, b.first, s_.cols[b.first] - 1, lb);
+    LineCov ca, cb;
+    const auto e1 = top_edge(a, wa, a.last, s_.cols[a.last] + 1, la, ca);
+    const auto e5 = top_edge(b, wb, b.first, s_.cols[b.first] - 1, lb, cb);
     if (!e1 || !e5) return;
     const Vec2 b1 = *e1, b5 = *e5;
     if ((b5 - b1).dot(along) <= 0.0) return;
@@ -2545,8 +2575,34 @@ class Matcher {
     // else that point on the wall's line.
     // `bare`: the toe is the wall's last seen point with no bottom seen
     // beside it (nothing within 1 mm): the wall may run on unseen below it.
-    auto toe = [&](const Line& wall, const Vec2& top_edge, int wall_end, int from, int step, bool& bare) {
+    // `cov`: the toe's covariance (docs/JOINTS.md "Localization"), from the
+    // wall's line (wall_cov; `wall_pts`: its points, absent for a hidden
+    // wall) and what places the toe along it.
+    auto toe = [&](const Line& wall, const LineCov& wall_cov, const Wall* wall_pts, const Vec2& top_edge, int wall_end,
+                   int from, int step, bool& bare, Eigen::Matrix2d& cov) {
       const Vec2 foot = wall.project(pt(wall_end));
+      const Vec2 wn = wall.n, wd = wall.direction();
+      const bool in_bottom = from >= bot_first && from <= bot_last;
+      const double reach = in_bottom ? (pt(from) - foot).norm() : 0.0;
+      // At the wall's last seen point: the toe lies between its foot and
+      // where the next column's ray (which did not see the wall: an invalid
+      // column's went past it) meets the wall's line, as a plate's edge
+      // does (edge_at), and, with the bottom seen beside it (within 1 mm),
+      // no deeper below the tops than the bottom's first point. Its mean
+      // square distance from the foot is that edge's covariance plus the
+      // edge's offset from the foot squared. A hidden wall: across it its
+      // line, along it the point's noise.
+      cov = wall_cov.across_var(foot) * wn * wn.transpose() + sigma_ * sigma_ * wd * wd.transpose();
+      if (wall_pts) {
+        const int beyond_col = s_.cols[wall_end] + step;
+        const Plate wp{wall_pts->first, wall_pts->last, wall, s_.moments(wall_pts->sums).mean};
+        double max_width = std::numeric_limits<double>::infinity();
+        if (const double slope = outward(wp, foot).dot(down); in_bottom && reach <= 1.0 && slope > 0.2)
+          max_width = std::max(0.0, (pt(from) - foot).dot(down) / slope);
+        const Edge e = edge_at(wp, pt(wall_end), beyond_col, nullptr, {}, {}, true, false, max_width, &wall_cov);
+        const Vec2 off = e.point - foot;
+        cov = e.cov + off * off.transpose();
+      }
       // Where the columns between the wall's last point and the bottom's
       // first are invalid (a dropout hid the corner), the bottom's first
       // point may lie farther from the foot (up to 2 max_edge_mm): the wall
@@ -2554,8 +2610,6 @@ class Matcher {
       // within that unseen stretch (taken at the wall's last point, it lay
       // 2-4 mm up the wall). The bottom is then looked at from its first
       // point on instead of from the foot.
-      const bool in_bottom = from >= bot_first && from <= bot_last;
-      const double reach = in_bottom ? (pt(from) - foot).norm() : 0.0;
       // Invalid columns between the wall's last point and the bottom's first
       // (looked at only where those lie more than 1 mm apart).
       const bool gap_invalid = in_bottom && reach > 1.0 &&
@@ -2568,9 +2622,13 @@ class Matcher {
       };
       // A radius at the foot (U, J): the bottom's points next to the wall lie
       // on a circle tangent to it; the toe is where it touches the wall.
+      double along_var = 0.0;
       if (const auto t = tangent_toe(wall, foot, anchor, (top_edge - foot).normalized(), unseen ? reach : 0.0, from,
-                                     step, bot_first, bot_last))
-        return !unseen || within_unseen(*t) ? *t : foot;
+                                     step, bot_first, bot_last, &along_var)) {
+        if (unseen && !within_unseen(*t)) return foot;
+        cov = wall_cov.across_var(*t) * wn * wn.transpose() + along_var * wd * wd.transpose();
+        return *t;
+      }
       // Bare: no bottom, or its first point farther than 1 mm and than 2.5
       // times the points' spacing there, or with invalid columns between
       // (sparse columns on a wall seen at a grazing angle leave more than
@@ -2598,21 +2656,26 @@ class Matcher {
       if (!f || f->rms_mm > tol_) return foot;
       const auto x = intersect(wall, f->line, 0.2);
       if (!x) return foot;
+      const Eigen::Matrix2d x_cov = intersection_cov(wall_cov, cov_of(f->line, sums), *x);
       // Past a dropout the bottom's line must lie across the wall, within 45
       // degrees of the tops (a bead's cap, a root's land): rays into a root
       // gap (the other plate's root face, steep) are no bottom to meet.
       if (unseen) {
         if (!within_unseen(*x) || acute_angle_deg(f->line, a.line) > 45.0) return foot;
         bare = false;
+        cov = x_cov;
         return *x;
       }
-      return (*x - foot).norm() <= 2.0 * gp.max_edge_mm ? *x : foot;
+      if ((*x - foot).norm() > 2.0 * gp.max_edge_mm) return foot;
+      cov = x_cov;
+      return *x;
     };
     bool bare_a = false, bare_b = false, unused = false;
-    Vec2 b2 = wa ? toe(la, b1, wa->last, bot_first, +1, bare_a)
-                 : (bot_first <= bot_last ? toe(la, b1, bot_first, bot_first, +1, unused) : la.project(pt(b.first)));
-    Vec2 b4 = wb ? toe(lb, b5, wb->first, bot_last, -1, bare_b)
-                 : (bot_first <= bot_last ? toe(lb, b5, bot_last, bot_last, -1, unused) : lb.project(pt(a.last)));
+    Eigen::Matrix2d c2, c4;
+    Vec2 b2 = wa ? toe(la, ca, &*wa, b1, wa->last, bot_first, +1, bare_a, c2)
+                 : toe(la, ca, nullptr, b1, bot_first <= bot_last ? bot_first : b.first, bot_first, +1, unused, c2);
+    Vec2 b4 = wb ? toe(lb, cb, &*wb, b5, wb->first, bot_last, -1, bare_b, c4)
+                 : toe(lb, cb, nullptr, b5, bot_first <= bot_last ? bot_last : a.last, bot_last, -1, unused, c4);
     if ((b4 - b2).dot(along) < -tol_) return;
     // A bevel's square wall runs on straight down as its root face, and a
     // square wall seen edge-on is seen only partway down or not at all (its
@@ -2629,7 +2692,14 @@ class Matcher {
         bottomless = (pt(i) - other).dot(down) > tol_ || sq_line.distance(pt(i)) <= tol_;
       Vec2 dn = sq_line.direction();  // down the square wall
       if (dn.dot(down) < 0.0) dn = -dn;
-      if (std::abs(deeper) > tol_ && bottomless) sq -= deeper / std::max(0.2, dn.dot(down)) * dn;
+      if (std::abs(deeper) > tol_ && bottomless) {
+        const double k = std::max(0.2, dn.dot(down));
+        sq -= deeper / k * dn;
+        // Across its wall the wall's line, along it the other toe's depth.
+        const LineCov& sq_cov = square_a ? ca : cb;
+        (square_a ? c2 : c4) = sq_cov.across_var(sq) * sq_line.n * sq_line.n.transpose() +
+                               down.dot((square_a ? c4 : c2) * down) / (k * k) * dn * dn.transpose();
+      }
     }
     // A J's square wall seen through the root gap runs on down as its root
     // face, and its seen end is the root face's foot; its toe is the root
@@ -2656,7 +2726,12 @@ class Matcher {
         if (gap) {
           Vec2 dn = sq_line.direction();
           if (dn.dot(down) < 0.0) dn = -dn;
-          sq -= above / std::max(0.2, dn.dot(down)) * dn;
+          const double k = std::max(0.2, dn.dot(down));
+          sq -= above / k * dn;
+          // Across its wall the wall's line, along it the shoulder point's
+          // noise.
+          (square_a ? c2 : c4) = (square_a ? ca : cb).across_var(sq) * sq_line.n * sq_line.n.transpose() +
+                                 sigma_ * sigma_ / (k * k) * dn * dn.transpose();
         }
         break;
       }
@@ -2717,6 +2792,20 @@ class Matcher {
     Vec2 b3 = 0.5 * (b2 + b4);
     double under = (b4 - b2).norm();
     std::size_t under_k = poly.size();  // B3 lies between poly[under_k] and the next
+    // B3's covariance (docs/JOINTS.md "Localization"): along the tops the
+    // toes' midpoint (the toes independent), which moves it along the
+    // bottom (the slope of the line through the bottom's points within
+    // kB3SupportMm of it: the piece under it, between two noisy points,
+    // has the noise's slope); across the tops the noise of that piece's
+    // ends (a toe's, or a point's: the profile's noise), interpolated.
+    const auto down_var = [&](std::size_t k) {
+      if (k == 0) return down.dot(c2 * down);
+      if (k + 1 == poly.size()) return down.dot(c4 * down);
+      return sigma_ * sigma_;
+    };
+    const double var_u = 0.25 * (along.dot(c2 * along) + along.dot(c4 * along));
+    Eigen::Matrix2d b3_cov = var_u * along * along.transpose() +
+                             0.5 * (down_var(0) + down_var(poly.size() - 1)) * down * down.transpose();
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
       if (u0 <= u_mid && u1 >= u_mid) {
@@ -2724,6 +2813,19 @@ class Matcher {
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
         under = (poly[k + 1] - poly[k]).norm();
         under_k = k;
+        Vec2 g = (poly[k + 1] - poly[k]) / std::max(u1 - u0, 1e-9);  // per mm along
+        {
+          std::vector<Vec2> near_b3;
+          for (const Vec2& q : poly)
+            if (std::abs((q - b1).dot(along) - u_mid) <= kB3SupportMm) near_b3.push_back(q);
+          if (near_b3.size() >= 3)
+            if (const auto f = fit_line(near_b3)) {
+              const Vec2 d = f->line.direction();
+              if (std::abs(d.dot(along)) > 0.1) g = d / d.dot(along);
+            }
+        }
+        b3_cov = var_u * g * g.transpose() +
+                 ((1.0 - t) * (1.0 - t) * down_var(k) + t * t * down_var(k + 1)) * down * down.transpose();
         break;
       }
     }
@@ -2827,6 +2929,7 @@ class Matcher {
     c.bp[1] = b1, c.bp[2] = b2, c.bp[3] = b3, c.bp[4] = b4, c.bp[5] = b5;
     c.bp[6] = outer(b, pt(b.last));
     c.track = b3;
+    c.track_cov = b3_cov, c.located = true;
     c.fill_lowest = poly[low];
     c.depth = low_v;
     c.area = 0.5 * std::abs(area2);
@@ -2913,8 +3016,15 @@ class Matcher {
   // wall's last point (or at most `below_mm` below it, where a dropout hid
   // the wall's lower end). The points are taken within 3 mm of `near` (the
   // foot, or the bottom's first point past such a dropout). Empty otherwise.
+  // `along_var`: the variance (mm^2) of where it touches, along the wall,
+  // from the circle's centre: the algebraic fit's residual at a point moved
+  // by e across the circle is 2 R e, so its centre is known to R^2 s^2
+  // times the first two rows and columns of the inverse of the fit's normal
+  // matrix (s^2 the points' residual variance pooled with the profile's
+  // noise, as a line's).
   std::optional<Vec2> tangent_toe(const Line& wall, const Vec2& foot, const Vec2& near, const Vec2& up,
-                                  double below_mm, int from, int step, int lo, int hi) const {
+                                  double below_mm, int from, int step, int lo, int hi,
+                                  double* along_var = nullptr) const {
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     int n = 0;
@@ -2949,6 +3059,12 @@ class Matcher {
     // wall's line below it).
     const Vec2 t = wall.project(c);
     if ((t - foot).dot(up) < -tol_ - below_mm) return std::nullopt;
+    if (along_var) {
+      const double s2 = (ss + kPriorDof * sigma_ * sigma_) / std::max(n - 3 + kPriorDof, 1.0);
+      const Eigen::Matrix2d centre_cov = r2 * s2 * m.ldlt().solve(Eigen::Matrix3d::Identity()).topLeftCorner<2, 2>();
+      const Vec2 d = wall.direction();
+      *along_var = d.dot(centre_cov * d);
+    }
     return t;
   }
 

@@ -69,7 +69,7 @@ TEST_CASE("corpus: the groove model's scores do not get worse", "[tracker][corpu
       {vc::Joint::Bevel, {20, 0.68}},
       {vc::Joint::UGroove, {0, 0.47}},
       {vc::Joint::JGroove, {3, 0.63}},
-      {vc::Joint::VGrooveThick, {6, 0.76}},
+      {vc::Joint::VGrooveThick, {5, 0.759}},
   };
   for (const auto& [joint, limit] : limits) {
     o.joints = {joint};
