@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -630,11 +631,16 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
     // slabs, with two rows more either way (band_rows); if the outer
     // rows evaluated are lit after all, the whole range is.
     const auto [ea, eb] = model.band_rows(c, lo, hi, pl, 1.05 * model.slab(q.norm()));
+    int done_lo = ea, done_hi = eb;  // the rows evaluated (the others are 0)
     if (ea <= eb) {
       model.column(c, ea, eb - ea + 1, pl, v + (ea - lo));
-      if ((ea > lo && v[ea - lo] > 0.0f) || (eb < hi && v[eb - lo] > 0.0f)) model.column(c, lo, hi - lo + 1, pl, v);
+      if ((ea > lo && v[ea - lo] > 0.0f) || (eb < hi && v[eb - lo] > 0.0f)) {
+        model.column(c, lo, hi - lo + 1, pl, v);
+        done_lo = lo;
+        done_hi = hi;
+      }
     }
-    for (int row = lo; row <= hi; ++row)
+    for (int row = done_lo; row <= done_hi; ++row)
       if (v[row - lo] > 0.0f) {
         b.first_lit = std::min(b.first_lit, row);
         b.last_lit = row;
@@ -1154,6 +1160,7 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   // 1. The bounce and the mirror image: a Gaussian band per column,
   // integrated over each pixel. The lens blur widens a band as it widens
   // the stripe (the stripe's blur is in its profile) and keeps its energy.
+  int touched_lo = 0, touched_hi = -1;  // the strip column's rows steps 0 and 1 wrote (the rest are 0)
   const auto splat = [&](int c, const std::vector<float>& rows_of, const std::vector<float>& sigma_of,
                          const std::vector<float>& radiance_of, float* col) {
     if (c >= static_cast<int>(rows_of.size())) return;
@@ -1165,6 +1172,8 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
     const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
     const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
     if (lo > hi) return;
+    touched_lo = std::min(touched_lo, lo - r0);
+    touched_hi = std::max(touched_hi, hi - r0);
     thread_local std::vector<float> shares;
     shares.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
     add_pixel_shares(lo, hi, row, sigma, area, shares.data());
@@ -1214,13 +1223,24 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
     for (int j = 0; j < nc; ++j) {
       const int c = c0 + j;
       float* col = strip.data() + j;  // row k at col[k * kStrip]
-      if (c < stripe_w) add_stripe_column(paths, c, r0, rows, col, kStrip);  // 0. the stripe (trace_laser_paths)
+      touched_lo = rows;
+      touched_hi = -1;
+      if (c < stripe_w) {  // 0. the stripe (trace_laser_paths)
+        add_stripe_column(paths, c, r0, rows, col, kStrip);
+        const int first = paths.stripe_first_row[static_cast<std::size_t>(c)] - r0;
+        const int count = paths.stripe_offset[static_cast<std::size_t>(c) + 1] - paths.stripe_offset[static_cast<std::size_t>(c)];
+        if (count > 0) {
+          touched_lo = std::max(0, first);
+          touched_hi = std::min(rows - 1, first + count - 1);
+        }
+      }
       splat(c, paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance, col);
       splat(c, paths.mirror_row, paths.mirror_sigma, paths.mirror_radiance, col);
       if (!speckle) continue;
-      // Speckle touches only the rows around the laser light of the column.
+      // Speckle touches only the rows around the laser light of the column
+      // (searched among the rows written).
       int lo = rows, hi = -1;
-      for (int k = 0; k < rows; ++k)
+      for (int k = touched_lo; k <= touched_hi; ++k)
         if (col[static_cast<std::size_t>(k) * kStrip] > 0.0f) {
           lo = std::min(lo, k);
           hi = k;
@@ -1243,8 +1263,12 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
       for (int k = 0; k < m; ++k)
         col[static_cast<std::size_t>(first + k) * kStrip] = static_cast<float>(a * ((1.0 - f) * src[k] + f * src[k - 1]));
     }
-    for (int k = 0; k < rows; ++k)
-      std::copy_n(strip.data() + static_cast<std::size_t>(k) * kStrip, nc, laser.data() + static_cast<std::size_t>(k) * w + c0);
+    for (int k = 0; k < rows; ++k) {
+      const float* from = strip.data() + static_cast<std::size_t>(k) * kStrip;
+      float* to = laser.data() + static_cast<std::size_t>(k) * w + c0;
+      if (nc == kStrip) std::memcpy(to, from, sizeof(float) * kStrip);  // (a fixed size: inlined)
+      else std::copy_n(from, nc, to);
+    }
   }
   sensor_counts(sensor, static_cast<std::uint32_t>(static_cast<std::size_t>(w) * rows), laser.data(), rad.ambient.data(),
                 out.pixels.data());
