@@ -74,7 +74,19 @@ struct Draws {
   const float* table = normal_table().data();
   Draws(std::uint64_t seed, std::int64_t index, std::uint64_t stream)
       : key(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index)) ^ mix(stream)) {}
-  float normal(std::uint64_t i) const { return table[mix(key ^ i) & 0xffff]; }
+  // out[k] = draw number first + k (the table's entry at the hash's low 16
+  // bits) for k < n: the entries prefetched as their indices are hashed,
+  // then read (the table is 256 KiB and read at random: one load after the
+  // other waited for each).
+  void normals(std::uint64_t first, std::size_t n, float* out) const {
+    thread_local std::vector<std::uint16_t> index;
+    index.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      index[k] = static_cast<std::uint16_t>(mix(key ^ (first + k)) & 0xffff);
+      __builtin_prefetch(table + index[k]);
+    }
+    for (std::size_t k = 0; k < n; ++k) out[k] = table[index[k]];
+  }
 };
 
 // Normal draws per column correlated over `grain` columns: white draws
@@ -84,7 +96,7 @@ void correlated_normals(const Draws& draws, std::uint64_t stream, int n, double 
   const double sigma = std::max(0.0, 0.5 * grain);
   const int radius = sigma < 0.3 ? 0 : static_cast<int>(std::ceil(3.0 * sigma));
   white.resize(static_cast<std::size_t>(n + 2 * radius));
-  for (std::size_t i = 0; i < white.size(); ++i) white[i] = draws.normal(stream * 0x100000000ull + i);
+  draws.normals(stream * 0x100000000ull, white.size(), white.data());
   out.assign(static_cast<std::size_t>(n), 0.0f);
   if (radius == 0) {
     std::copy(white.begin(), white.begin() + n, out.begin());
