@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -73,7 +74,19 @@ struct Draws {
   const float* table = normal_table().data();
   Draws(std::uint64_t seed, std::int64_t index, std::uint64_t stream)
       : key(mix(mix(seed ^ 0x5ca1ab1eull) ^ static_cast<std::uint64_t>(index)) ^ mix(stream)) {}
-  float normal(std::uint64_t i) const { return table[mix(key ^ i) & 0xffff]; }
+  // out[k] = draw number first + k (the table's entry at the hash's low 16
+  // bits) for k < n: the entries prefetched as their indices are hashed,
+  // then read (the table is 256 KiB and read at random: one load after the
+  // other waited for each).
+  void normals(std::uint64_t first, std::size_t n, float* out) const {
+    thread_local std::vector<std::uint16_t> index;
+    index.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      index[k] = static_cast<std::uint16_t>(mix(key ^ (first + k)) & 0xffff);
+      __builtin_prefetch(table + index[k]);
+    }
+    for (std::size_t k = 0; k < n; ++k) out[k] = table[index[k]];
+  }
 };
 
 // Normal draws per column correlated over `grain` columns: white draws
@@ -83,7 +96,7 @@ void correlated_normals(const Draws& draws, std::uint64_t stream, int n, double 
   const double sigma = std::max(0.0, 0.5 * grain);
   const int radius = sigma < 0.3 ? 0 : static_cast<int>(std::ceil(3.0 * sigma));
   white.resize(static_cast<std::size_t>(n + 2 * radius));
-  for (std::size_t i = 0; i < white.size(); ++i) white[i] = draws.normal(stream * 0x100000000ull + i);
+  draws.normals(stream * 0x100000000ull, white.size(), white.data());
   out.assign(static_cast<std::size_t>(n), 0.0f);
   if (radius == 0) {
     std::copy(white.begin(), white.begin() + n, out.begin());
@@ -557,26 +570,46 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
   const Eigen::Vector3d cam_world = world_from_sensor * cam.centre;
   const double far = stripe_far_mm(d);
   const double cos_same = std::cos(1.0 * kDeg);
-  // Whether the laser reaches p (world; r its range, cos_i its incidence).
-  const auto reached = [&](const Eigen::Vector3d& p, double r, double cos_i) {
+  // The ray that tells whether the laser reaches p (world; r its range,
+  // cos_i its incidence); none (false) where p is within the bias of the
+  // laser, which then reaches it.
+  const auto reach_ray = [&](const Eigen::Vector3d& p, double r, double cos_i, RayScene::Segment& ray) {
     const double bias = 0.02 + 1e-4 * r / std::max(cos_i, 0.1);
-    if (r <= bias) return true;
-    return !scene.occluded(origin.cast<float>(), ((p - origin) / r).cast<float>(), 0.0f, static_cast<float>(r - bias));
+    if (r <= bias) return false;
+    ray = {origin.cast<float>(), ((p - origin) / r).cast<float>(), 0.0f, static_cast<float>(r - bias)};
+    return true;
   };
-  // Whether the camera sees p (world) on a surface of normal n.
-  const auto seen = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+  const auto reached = [&](const Eigen::Vector3d& p, double r, double cos_i) {
+    RayScene::Segment ray;
+    return !reach_ray(p, r, cos_i, ray) || !scene.occluded(ray.o, ray.d, ray.tnear, ray.tfar);
+  };
+  // The ray that tells whether the camera sees p (world) on a surface of
+  // normal n.
+  const auto seen_ray = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
     const Eigen::Vector3d to_cam = cam_world - p;
     const double dist = to_cam.norm();
     const Eigen::Vector3d nn = n.dot(to_cam) < 0.0 ? Eigen::Vector3d(-n) : n;
-    return !scene.occluded((p + 1e-3 * nn).cast<float>(), (to_cam / dist).cast<float>(),
-                           static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist));
+    return RayScene::Segment{(p + 1e-3 * nn).cast<float>(), (to_cam / dist).cast<float>(),
+                             static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist)};
   };
   const auto same_plane = [&](const PrimaryHit& a, const PrimaryHit& b) {
     return a.hit && b.hit && a.n.dot(b.n) >= cos_same && std::abs(a.n.dot(b.p - a.p)) <= 0.05;
   };
-  std::vector<float> values;
+  // 1. Per column, the band's pixels on the plane of the column's hit.
+  struct Band {
+    int lo = 0, hi = -1, first_lit = 0, last_lit = -1;
+    std::size_t at = 0;  // its values: values[at .. at + hi - lo]
+    bool traced = false;  // lo .. hi evaluated (else no stripe in the column)
+    bool clear = false;   // the plane holds over the band (so far)
+    Eigen::Vector3d end_world[2], end_sensor[2];
+    double cos_i = 0.0;
+  };
+  thread_local std::vector<Band> bands;
+  thread_local std::vector<float> values;
+  bands.assign(static_cast<std::size_t>(w), Band{});
+  values.clear();
   for (int c = 0; c < w; ++c) {
-    out.stripe_offset[static_cast<std::size_t>(c) + 1] = out.stripe_offset[static_cast<std::size_t>(c)];
+    Band& b = bands[static_cast<std::size_t>(c)];
     const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
     if (!ph.hit) continue;
     const Eigen::Vector3d q = sensor_from_world * ph.p;  // sensor frame
@@ -592,52 +625,95 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
     const double slope = std::abs(pb.x() - pa.x());  // mm of x per row
     const double reach = 1.5 * model.slab(q.norm()) + std::abs(pa.x());
     const double span = slope > 0.0 ? std::min(reach / slope + 2.0, static_cast<double>(cam.height)) : cam.height;
-    int lo = static_cast<int>(std::max(static_cast<double>(roi_first), std::floor(r0 - span)));
-    int hi = static_cast<int>(std::min(static_cast<double>(roi_last), std::ceil(r0 + span)));
+    const int lo = static_cast<int>(std::max(static_cast<double>(roi_first), std::floor(r0 - span)));
+    const int hi = static_cast<int>(std::min(static_cast<double>(roi_last), std::ceil(r0 + span)));
     if (lo > hi) continue;
-    const bool interior = c > 0 && c + 1 < w && same_plane(ph, primary[static_cast<std::size_t>(c) - 1]) &&
-                          same_plane(ph, primary[static_cast<std::size_t>(c) + 1]);
-    values.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
-    int first_lit = hi + 1, last_lit = lo - 1;
+    b.traced = true;
+    b.lo = lo;
+    b.hi = hi;
+    b.clear = c > 0 && c + 1 < w && same_plane(ph, primary[static_cast<std::size_t>(c) - 1]) &&
+              same_plane(ph, primary[static_cast<std::size_t>(c) + 1]);
+    b.at = values.size();
+    values.resize(values.size() + static_cast<std::size_t>(hi - lo + 1), 0.0f);
+    float* v = values.data() + b.at;
+    b.first_lit = hi + 1;
+    b.last_lit = lo - 1;
     // Only the rows that can be lit are evaluated (the rest stay 0, as the
     // evaluation would leave them): where the plane's x is within 1.05
     // slabs, with two rows more either way (band_rows); if the outer
     // rows evaluated are lit after all, the whole range is.
     const auto [ea, eb] = model.band_rows(c, lo, hi, pl, 1.05 * model.slab(q.norm()));
+    int done_lo = ea, done_hi = eb;  // the rows evaluated (the others are 0)
     if (ea <= eb) {
-      model.column(c, ea, eb - ea + 1, pl, values.data() + (ea - lo));
-      if ((ea > lo && values[static_cast<std::size_t>(ea - lo)] > 0.0f) ||
-          (eb < hi && values[static_cast<std::size_t>(eb - lo)] > 0.0f))
-        model.column(c, lo, hi - lo + 1, pl, values.data());
-    }
-    for (int row = lo; row <= hi; ++row)
-      if (values[static_cast<std::size_t>(row - lo)] > 0.0f) {
-        first_lit = std::min(first_lit, row);
-        last_lit = row;
-      }
-    bool clear = interior;
-    if (clear && first_lit <= last_lit) {
-      // Both ends of the band and its centre: reached by the laser, seen by
-      // the camera.
-      Eigen::Vector3d e0, e1;
-      clear = model.on_plane(c, first_lit, pl, e0) && model.on_plane(c, last_lit, pl, e1);
-      const double cos_i = std::abs(ph.dir.dot(ph.n));
-      for (const Eigen::Vector3d& e : {e0, e1}) {
-        if (!clear) break;
-        const Eigen::Vector3d ew = world_from_sensor * e;
-        clear = reached(ew, e.norm(), cos_i) && seen(ew, ph.n);
-      }
-      if (clear) {
-        clear = seen(ph.p, ph.n);
-        centre_seen[static_cast<std::size_t>(c)] = clear ? 1 : 0;
+      model.column(c, ea, eb - ea + 1, pl, v + (ea - lo));
+      if ((ea > lo && v[ea - lo] > 0.0f) || (eb < hi && v[eb - lo] > 0.0f)) {
+        model.column(c, lo, hi - lo + 1, pl, v);
+        done_lo = lo;
+        done_hi = hi;
       }
     }
-    if (!clear) {
+    for (int row = done_lo; row <= done_hi; ++row)
+      if (v[row - lo] > 0.0f) {
+        b.first_lit = std::min(b.first_lit, row);
+        b.last_lit = row;
+      }
+    if (b.clear && b.first_lit <= b.last_lit) {
+      // Both ends of the band and its centre must be reached by the laser
+      // and seen by the camera (2. below).
+      b.clear = model.on_plane(c, b.first_lit, pl, b.end_sensor[0]) && model.on_plane(c, b.last_lit, pl, b.end_sensor[1]);
+      b.cos_i = std::abs(ph.dir.dot(ph.n));
+      if (b.clear)
+        for (int k = 0; k < 2; ++k) b.end_world[k] = world_from_sensor * b.end_sensor[k];
+    }
+  }
+
+  // 2. The checks of the plane, in the order a column would make them, each
+  // over the columns still clear, 8 rays at a time: the laser reaches the
+  // band's first end, the camera sees it; the same at the other end; the
+  // camera sees the centre (the primary hit).
+  thread_local std::vector<int> pending;
+  thread_local std::vector<RayScene::Segment> rays;
+  thread_local std::vector<unsigned char> blocked;
+  for (int step = 0; step < 5; ++step) {
+    pending.clear();
+    rays.clear();
+    for (int c = 0; c < w; ++c) {
+      Band& b = bands[static_cast<std::size_t>(c)];
+      if (!b.traced || !b.clear || b.first_lit > b.last_lit) continue;
+      const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
+      const int e = step / 2;
+      RayScene::Segment ray;
+      if (step == 4) ray = seen_ray(ph.p, ph.n);
+      else if (step % 2 == 1) ray = seen_ray(b.end_world[e], ph.n);
+      else if (!reach_ray(b.end_world[e], b.end_sensor[e].norm(), b.cos_i, ray)) continue;  // reached: no ray needed
+      pending.push_back(c);
+      rays.push_back(ray);
+    }
+    blocked.resize(rays.size());
+    scene.occluded(rays.data(), rays.size(), blocked.data());
+    for (std::size_t k = 0; k < pending.size(); ++k) {
+      const int c = pending[k];
+      bands[static_cast<std::size_t>(c)].clear = !blocked[k];
+      if (step == 4) centre_seen[static_cast<std::size_t>(c)] = blocked[k] ? 0 : 1;
+    }
+  }
+
+  // 3. Per column, pixel by pixel where the plane does not hold; the
+  // column's lit rows into `out`.
+  std::vector<float> own;
+  for (int c = 0; c < w; ++c) {
+    out.stripe_offset[static_cast<std::size_t>(c) + 1] = out.stripe_offset[static_cast<std::size_t>(c)];
+    const Band& b = bands[static_cast<std::size_t>(c)];
+    if (!b.traced) continue;
+    int lo = b.lo, hi = b.hi, first_lit = b.first_lit, last_lit = b.last_lit;
+    const float* v = values.data() + b.at;
+    if (!b.clear) {
       // Pixel by pixel: what each pixel's ray sees, lit where the laser
       // reaches it; a few rows more, for a plane that ends inside the band.
       lo = std::max(roi_first, lo - 4);
       hi = std::min(roi_last, hi + 4);
-      values.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+      own.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
+      v = own.data();
       first_lit = hi + 1;
       last_lit = lo - 1;
       for (int row = lo; row <= hi; ++row) {
@@ -651,9 +727,9 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
         if (!(r > 0.0) || std::abs(ps.x()) > model.slab(r)) continue;
         const double cos_i = std::abs((pw - origin).dot(nw)) / r;
         if (!reached(pw, r, cos_i)) continue;
-        float& v = values[static_cast<std::size_t>(row - lo)];
-        model.column(c, row, 1, model.plane(ps, ns), &v);
-        if (v > 0.0f) {
+        float& value = own[static_cast<std::size_t>(row - lo)];
+        model.column(c, row, 1, model.plane(ps, ns), &value);
+        if (value > 0.0f) {
           first_lit = std::min(first_lit, row);
           last_lit = row;
         }
@@ -662,8 +738,7 @@ void trace_stripe(const ScannerDesc& d, const CameraGeometry& cam, const RayScen
 
     if (first_lit > last_lit) continue;
     out.stripe_first_row[static_cast<std::size_t>(c)] = first_lit;
-    out.stripe_radiance.insert(out.stripe_radiance.end(), values.begin() + (first_lit - lo),
-                               values.begin() + (last_lit - lo + 1));
+    out.stripe_radiance.insert(out.stripe_radiance.end(), v + (first_lit - lo), v + (last_lit - lo + 1));
     out.stripe_offset[static_cast<std::size_t>(c) + 1] = static_cast<int>(out.stripe_radiance.size());
   }
 }
@@ -725,19 +800,51 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   // The primary rays, one per image column: the laser-plane direction that
   // images at column c at mid range (exact for every range without tilt),
   // cast as far as the stripe can be drawn.
+  // Their directions in the sensor frame do not depend on the pose: kept
+  // per thread for the last camera (zero where outside the fan).
+  thread_local std::vector<double> dirs_key;
+  thread_local std::vector<Eigen::Vector3d> dirs_sensor;
+  const std::vector<double> key = {cam.centre.x(), cam.centre.y(), cam.centre.z(), cam.f_px, cam.cos_tilt, cam.sin_tilt,
+                                   cam.cx, cam.cy, static_cast<double>(w), tan_half_fan,
+                                   cam.camera_from_sensor(0, 0), cam.camera_from_sensor(0, 1), cam.camera_from_sensor(0, 2),
+                                   cam.camera_from_sensor(1, 0), cam.camera_from_sensor(1, 1), cam.camera_from_sensor(1, 2),
+                                   cam.camera_from_sensor(2, 0), cam.camera_from_sensor(2, 1), cam.camera_from_sensor(2, 2)};
+  if (key != dirs_key) {
+    dirs_key = key;
+    dirs_sensor.assign(static_cast<std::size_t>(w), Eigen::Vector3d::Zero());
+    for (int c = 0; c < w; ++c) {
+      Eigen::Vector2d yz;
+      const double row_mid = cam.cy;
+      double tan_a = 0.0;
+      if (triangulate(cam, c, row_mid, yz) && yz.y() > 0.0) tan_a = yz.x() / yz.y();
+      else tan_a = (c - cam.cx) * cam.camera_from_sensor(2, 2) / cam.f_px;
+      if (std::abs(tan_a) > tan_half_fan) continue;
+      dirs_sensor[static_cast<std::size_t>(c)] = Eigen::Vector3d(0.0, tan_a, 1.0).normalized();
+    }
+  }
+  // Cast 8 at a time.
   std::vector<PrimaryHit> primary(static_cast<std::size_t>(w));
+  thread_local std::vector<int> cast_columns;
+  thread_local std::vector<RayScene::Segment> cast_rays;
+  thread_local std::vector<RayScene::Hit> cast_hits;
+  thread_local std::vector<unsigned char> cast_found;
+  cast_columns.clear();
+  cast_rays.clear();
   for (int c = 0; c < w; ++c) {
+    const Eigen::Vector3d& ds = dirs_sensor[static_cast<std::size_t>(c)];
+    if (ds.z() == 0.0) continue;  // outside the fan
     PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
-    Eigen::Vector2d yz;
-    const double row_mid = cam.cy;
-    double tan_a = 0.0;
-    if (triangulate(cam, c, row_mid, yz) && yz.y() > 0.0) tan_a = yz.x() / yz.y();
-    else tan_a = (c - cam.cx) * cam.camera_from_sensor(2, 2) / cam.f_px;
-    if (std::abs(tan_a) > tan_half_fan) continue;
-    ph.dir = rot * Eigen::Vector3d(0.0, tan_a, 1.0).normalized();
-    RayScene::Hit hit;
-    if (!scene.intersect(origin.cast<float>(), ph.dir.cast<float>(), 0.0f, static_cast<float>(stripe_far_mm(d)), hit))
-      continue;
+    ph.dir = rot * ds;
+    cast_columns.push_back(c);
+    cast_rays.push_back({origin.cast<float>(), ph.dir.cast<float>(), 0.0f, static_cast<float>(stripe_far_mm(d))});
+  }
+  cast_hits.resize(cast_rays.size());
+  cast_found.resize(cast_rays.size());
+  scene.intersect(cast_rays.data(), cast_rays.size(), cast_hits.data(), cast_found.data());
+  for (std::size_t k = 0; k < cast_columns.size(); ++k) {
+    if (!cast_found[k]) continue;
+    PrimaryHit& ph = primary[static_cast<std::size_t>(cast_columns[k])];
+    const RayScene::Hit& hit = cast_hits[k];
     ph.hit = true;
     ph.t = hit.t;
     ph.p = origin + static_cast<double>(hit.t) * ph.dir;
@@ -746,13 +853,23 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   std::vector<signed char> centre_seen;
   trace_stripe(d, cam, scene, world_from_sensor, primary, out, centre_seen);
 
+  // The truth's camera rays where trace_stripe cast none, and the bounce's
+  // rays, each kind cast 8 at a time.
+  thread_local std::vector<int> seen_columns, bounce_columns;
+  thread_local std::vector<RayScene::Segment> seen_rays, bounce_rays;
+  thread_local std::vector<Eigen::Vector2d> seen_at;
+  thread_local std::vector<unsigned char> seen_blocked;
+  seen_columns.clear();
+  seen_rays.clear();
+  seen_at.clear();
+  bounce_columns.clear();
+  bounce_rays.clear();
   for (int c = 0; c < w; ++c) {
     Sample& s = samples[static_cast<std::size_t>(c)];
     s = {0, 0, false};
     const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
     if (!ph.hit || ph.t > d.max_hit_mm) continue;
     const Eigen::Vector3d& dir = ph.dir;
-    const RayScene::Hit hit{static_cast<float>(ph.t), ph.n.cast<float>()};
     const Eigen::Vector3d& p = ph.p;
     const Eigen::Vector3d& n = ph.n;
     const Eigen::Vector3d p_s = sensor_from_world * p;
@@ -760,8 +877,8 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     hit_p[static_cast<std::size_t>(c)] = p;
     hit_n[static_cast<std::size_t>(c)] = n;
     lit[static_cast<std::size_t>(c)] = 1;
-    lit_sigma[static_cast<std::size_t>(c)] = 0.5 * sheet_half_thickness_mm(d, hit.t);
-    lit_irradiance[static_cast<std::size_t>(c)] = power_w / (fan_rad * hit.t) /
+    lit_sigma[static_cast<std::size_t>(c)] = 0.5 * sheet_half_thickness_mm(d, static_cast<float>(ph.t));
+    lit_irradiance[static_cast<std::size_t>(c)] = power_w / (fan_rad * static_cast<float>(ph.t)) /
                                                   (std::sqrt(2.0 * std::numbers::pi) * lit_sigma[static_cast<std::size_t>(c)]) *
                                                   std::max(0.0, -dir.dot(n));
     Eigen::Vector2d cr;
@@ -770,45 +887,89 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
     // (The same ray as trace_stripe's centre check, where that was cast:
     // n faces the camera, so it starts at the same point.)
     const signed char known = centre_seen[static_cast<std::size_t>(c)];
-    if (project(cam, p_s, cr) && n.dot(to_cam) > 0.0 &&
-        (known >= 0 ? known == 1
-                    : !scene.occluded((p + 1e-3 * n).cast<float>(), (to_cam / dist_cam).cast<float>(),
-                                      static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist_cam)))) {
-      s.col = cr.x();
-      s.row = cr.y();
-      s.seen = true;
+    if (project(cam, p_s, cr) && n.dot(to_cam) > 0.0) {
+      if (known >= 0) {
+        if (known == 1) s = {cr.x(), cr.y(), true};
+      } else {
+        seen_columns.push_back(c);
+        seen_at.push_back(cr);
+        seen_rays.push_back({(p + 1e-3 * n).cast<float>(), (to_cam / dist_cam).cast<float>(),
+                             static_cast<float>(kShadowEpsilonMm), static_cast<float>(dist_cam)});
+      }
     }
     if (!bounce) continue;
     // The mirror reflection of the ray off the surface.
     const Eigen::Vector3d m = dir - 2.0 * dir.dot(n) * n;
-    RayScene::Hit hq;
-    if (!scene.intersect((p + 1e-3 * n).cast<float>(), m.cast<float>(), 0.01f, 1e5f, hq)) continue;
-    const Eigen::Vector3d q = p + 1e-3 * n + static_cast<double>(hq.t) * m;
-    const Eigen::Vector3d nq = hq.normal.cast<double>();
-    const double travelled = hit.t + hq.t;
-    const double cos_q = -m.dot(nq);
-    const Eigen::Vector3d q_to_cam = cam_world - q;
-    const double q_dist = q_to_cam.norm();
-    if (!(cos_q > 0.0) || nq.dot(q_to_cam) <= 0.0) continue;
-    if (scene.occluded((q + 1e-3 * nq).cast<float>(), (q_to_cam / q_dist).cast<float>(),
-                       static_cast<float>(kShadowEpsilonMm), static_cast<float>(q_dist)))
-      continue;
+    bounce_columns.push_back(c);
+    bounce_rays.push_back({(p + 1e-3 * n).cast<float>(), m.cast<float>(), 0.01f, 1e5f});
+  }
+  seen_blocked.resize(seen_rays.size());
+  scene.occluded(seen_rays.data(), seen_rays.size(), seen_blocked.data());
+  for (std::size_t k = 0; k < seen_columns.size(); ++k)
+    if (!seen_blocked[k]) samples[static_cast<std::size_t>(seen_columns[k])] = {seen_at[k].x(), seen_at[k].y(), true};
+
+  // The bounce: where the reflected ray lands (q), if the camera sees q.
+  struct Bounce {
+    int c = 0;
+    Eigen::Vector3d q, nq, q_to_cam;
+    float hq_t = 0.0f;  // (float, as Embree gives it)
+    double q_dist = 0.0, cos_q = 0.0;
+  };
+  thread_local std::vector<Bounce> landed;
+  thread_local std::vector<RayScene::Hit> bounce_hits;
+  thread_local std::vector<unsigned char> bounce_flags;
+  landed.clear();
+  bounce_hits.resize(bounce_rays.size());
+  bounce_flags.resize(bounce_rays.size());
+  scene.intersect(bounce_rays.data(), bounce_rays.size(), bounce_hits.data(), bounce_flags.data());
+  std::size_t cast = 0;
+  for (std::size_t k = 0; k < bounce_columns.size(); ++k) {
+    if (!bounce_flags[k]) continue;
+    const int c = bounce_columns[k];
+    const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
+    const Eigen::Vector3d& dir = ph.dir;
+    const Eigen::Vector3d& p = ph.p;
+    const Eigen::Vector3d& n = ph.n;
+    const Eigen::Vector3d m = dir - 2.0 * dir.dot(n) * n;
+    const RayScene::Hit& hq = bounce_hits[k];
+    Bounce b;
+    b.c = c;
+    b.hq_t = hq.t;
+    b.q = p + 1e-3 * n + static_cast<double>(hq.t) * m;
+    b.nq = hq.normal.cast<double>();
+    b.cos_q = -m.dot(b.nq);
+    b.q_to_cam = cam_world - b.q;
+    b.q_dist = b.q_to_cam.norm();
+    if (!(b.cos_q > 0.0) || b.nq.dot(b.q_to_cam) <= 0.0) continue;
+    bounce_rays[cast++] = {(b.q + 1e-3 * b.nq).cast<float>(), (b.q_to_cam / b.q_dist).cast<float>(),
+                           static_cast<float>(kShadowEpsilonMm), static_cast<float>(b.q_dist)};
+    landed.push_back(b);
+  }
+  bounce_flags.resize(cast);
+  scene.occluded(bounce_rays.data(), cast, bounce_flags.data());
+  for (std::size_t k = 0; k < landed.size(); ++k) {
+    if (bounce_flags[k]) continue;
+    const Bounce& b = landed[k];
+    const int c = b.c;
+    const PrimaryHit& ph = primary[static_cast<std::size_t>(c)];
+    const Eigen::Vector3d& n = ph.n;
+    const float travelled = static_cast<float>(ph.t) + b.hq_t;
     // The mirrored sheet: thickness of the beam after `travelled` widened by
     // the lobe over the reflected leg; in-line power density of a fan from
     // the mirrored origin.
     const double sigma_sheet = 0.5 * sheet_half_thickness_mm(d, travelled);
-    const double sigma_b = std::hypot(sigma_sheet, lobe * hq.t);
+    const double sigma_b = std::hypot(sigma_sheet, lobe * b.hq_t);
     const double irradiance = d.specular_reflectance * power_w / (fan_rad * travelled) /
-                              (std::sqrt(2.0 * std::numbers::pi) * sigma_b) * cos_q;
-    const double radiance = irradiance * d.reflectivity / std::numbers::pi * vignetting(q_to_cam / q_dist);
+                              (std::sqrt(2.0 * std::numbers::pi) * sigma_b) * b.cos_q;
+    const double radiance = irradiance * d.reflectivity / std::numbers::pi * vignetting(b.q_to_cam / b.q_dist);
     // Width in the image: across the mirrored band on the surface at q.
     const Eigen::Vector3d mn = plane_normal - 2.0 * plane_normal.dot(n) * n;
     Eigen::Vector3d across;
     double sigma_surface = 0.0;
-    if (!across_band(mn, nq, sigma_b, across, sigma_surface)) continue;
+    if (!across_band(mn, b.nq, sigma_b, across, sigma_surface)) continue;
     Eigen::Vector2d qa, qb;
-    if (!project(cam, sensor_from_world * q, qa) ||
-        !project(cam, sensor_from_world * (q + sigma_surface * across), qb))
+    if (!project(cam, sensor_from_world * b.q, qa) ||
+        !project(cam, sensor_from_world * (b.q + sigma_surface * across), qb))
       continue;
     bounced[static_cast<std::size_t>(c)] = {qa.x(), qa.y(), std::max(0.3, std::abs(qb.y() - qa.y())), radiance, true};
   }
@@ -839,39 +1000,71 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
   const std::vector<MirrorPlane> planes = lit_planes(hit_p, hit_n, lit);
   std::vector<BandSample> mirrored(static_cast<std::size_t>(w));
   const double cos_same = std::cos(2.0 * kDeg);
+  struct MirrorRay {
+    int c = 0;
+    Eigen::Vector3d virt, ray;  // P' and the unit ray to it from the camera
+    double virt_dist = 0.0, t_plane = 0.0, leg = 0.0;
+  };
+  thread_local std::vector<MirrorRay> cand;
+  thread_local std::vector<RayScene::Segment> segments;
+  thread_local std::vector<RayScene::Hit> hits;
+  thread_local std::vector<unsigned char> flags;
   for (const MirrorPlane& plane : planes) {
     const Eigen::Vector3d& ns = plane.normal;
     const double cam_side = ns.dot(cam_world - plane.point);
     if (!(cam_side > 0.0)) continue;  // the camera sees the plane's back
+    // Per lit column, the camera's ray to P' (cast 8 at a time, then the
+    // rays from the mirror to P for those that meet S first).
+    cand.clear();
+    segments.clear();
     for (int c = 0; c < w; ++c) {
-      BandSample& b = mirrored[static_cast<std::size_t>(c)];
-      b.valid = false;
+      mirrored[static_cast<std::size_t>(c)].valid = false;
       if (!lit[static_cast<std::size_t>(c)]) continue;
       const Eigen::Vector3d& p = hit_p[static_cast<std::size_t>(c)];
-      const Eigen::Vector3d& np = hit_n[static_cast<std::size_t>(c)];
       const double height = ns.dot(p - plane.point);
       if (height < 0.05) continue;  // on the mirror itself, or behind it
-      const Eigen::Vector3d virt = p - 2.0 * height * ns;
-      Eigen::Vector3d ray = virt - cam_world;
-      const double virt_dist = ray.norm();
-      ray /= virt_dist;
-      const double denom = ray.dot(ns);
+      MirrorRay m;
+      m.c = c;
+      m.virt = p - 2.0 * height * ns;
+      m.ray = m.virt - cam_world;
+      m.virt_dist = m.ray.norm();
+      m.ray /= m.virt_dist;
+      const double denom = m.ray.dot(ns);
       if (!(denom < -1e-6)) continue;
-      const double t_plane = -cam_side / denom;
-      RayScene::Hit hq;
-      if (!scene.intersect(cam_world.cast<float>(), ray.cast<float>(), 0.0f, static_cast<float>(t_plane + 1.0), hq))
-        continue;
-      if (std::abs(static_cast<double>(hq.t) - t_plane) > 0.05 + 1e-4 * t_plane ||
+      m.t_plane = -cam_side / denom;
+      cand.push_back(m);
+      segments.push_back({cam_world.cast<float>(), m.ray.cast<float>(), 0.0f, static_cast<float>(m.t_plane + 1.0)});
+    }
+    hits.resize(segments.size());
+    flags.resize(segments.size());
+    scene.intersect(segments.data(), segments.size(), hits.data(), flags.data());
+    std::size_t kept = 0;
+    segments.clear();
+    for (std::size_t i = 0; i < cand.size(); ++i) {
+      MirrorRay& m = cand[i];
+      const RayScene::Hit& hq = hits[i];
+      if (!flags[i]) continue;
+      if (std::abs(static_cast<double>(hq.t) - m.t_plane) > 0.05 + 1e-4 * m.t_plane ||
           hq.normal.cast<double>().dot(ns) < cos_same)
         continue;  // something else is seen first, or another surface
-      const Eigen::Vector3d q = cam_world + t_plane * ray;
+      const Eigen::Vector3d& p = hit_p[static_cast<std::size_t>(m.c)];
+      const Eigen::Vector3d& np = hit_n[static_cast<std::size_t>(m.c)];
+      const Eigen::Vector3d q = cam_world + m.t_plane * m.ray;
       Eigen::Vector3d q_to_p = p - q;
-      const double leg = q_to_p.norm();
-      q_to_p /= leg;
+      m.leg = q_to_p.norm();
+      q_to_p /= m.leg;
       if (np.dot(-q_to_p) <= 0.0) continue;  // P faces away from the mirror
-      if (scene.occluded((q + 1e-3 * ns).cast<float>(), q_to_p.cast<float>(), static_cast<float>(kShadowEpsilonMm),
-                         static_cast<float>(leg - 2.0 * kShadowEpsilonMm)))
-        continue;
+      segments.push_back({(q + 1e-3 * ns).cast<float>(), q_to_p.cast<float>(), static_cast<float>(kShadowEpsilonMm),
+                          static_cast<float>(m.leg - 2.0 * kShadowEpsilonMm)});
+      cand[kept++] = m;
+    }
+    flags.resize(segments.size());
+    scene.occluded(segments.data(), segments.size(), flags.data());
+    for (std::size_t i = 0; i < kept; ++i) {
+      if (flags[i]) continue;
+      const MirrorRay& m = cand[i];
+      const int c = m.c;
+      const Eigen::Vector3d& np = hit_n[static_cast<std::size_t>(c)];
       // The band on P's surface seen through the mirror, its width in the
       // image, widened by the lobe: a reflected direction off by delta
       // shows a point delta * leg away at the virtual distance.
@@ -880,15 +1073,15 @@ void trace_laser_paths(const ScannerDesc& d, const RayScene& scene, const Pose& 
       if (!across_band(plane_normal, np, lit_sigma[static_cast<std::size_t>(c)], across, sigma_surface)) continue;
       const Eigen::Vector3d across_virt = across - 2.0 * across.dot(ns) * ns;
       Eigen::Vector2d va, vb;
-      if (!project(cam, sensor_from_world * virt, va) ||
-          !project(cam, sensor_from_world * (virt + sigma_surface * across_virt), vb))
+      if (!project(cam, sensor_from_world * m.virt, va) ||
+          !project(cam, sensor_from_world * (m.virt + sigma_surface * across_virt), vb))
         continue;
       const double sigma_img = std::max(0.3, std::abs(vb.y() - va.y()));
-      const double sigma_lobe = cam.f_px * lobe * leg / virt_dist;
+      const double sigma_lobe = cam.f_px * lobe * m.leg / m.virt_dist;
       const double sigma = std::hypot(sigma_img, sigma_lobe);
       const double radiance = d.specular_reflectance * lit_irradiance[static_cast<std::size_t>(c)] * d.reflectivity /
-                              std::numbers::pi * vignetting(-ray) * sigma_img / sigma;
-      b = {va.x(), va.y(), sigma, radiance, true};
+                              std::numbers::pi * vignetting(-m.ray) * sigma_img / sigma;
+      mirrored[static_cast<std::size_t>(c)] = {va.x(), va.y(), sigma, radiance, true};
     }
     resample_bands(mirrored, 3 * kJoin, out.mirror_row, out.mirror_sigma, out.mirror_radiance);
   }
@@ -979,6 +1172,7 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
   // 1. The bounce and the mirror image: a Gaussian band per column,
   // integrated over each pixel. The lens blur widens a band as it widens
   // the stripe (the stripe's blur is in its profile) and keeps its energy.
+  int touched_lo = 0, touched_hi = -1;  // the strip column's rows steps 0 and 1 wrote (the rest are 0)
   const auto splat = [&](int c, const std::vector<float>& rows_of, const std::vector<float>& sigma_of,
                          const std::vector<float>& radiance_of, float* col) {
     if (c >= static_cast<int>(rows_of.size())) return;
@@ -990,6 +1184,8 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
     const int lo = std::max(r0, static_cast<int>(std::floor(row - 5.0 * sigma)));
     const int hi = std::min(r0 + rows - 1, static_cast<int>(std::ceil(row + 5.0 * sigma)));
     if (lo > hi) return;
+    touched_lo = std::min(touched_lo, lo - r0);
+    touched_hi = std::max(touched_hi, hi - r0);
     thread_local std::vector<float> shares;
     shares.assign(static_cast<std::size_t>(hi - lo + 1), 0.0f);
     add_pixel_shares(lo, hi, row, sigma, area, shares.data());
@@ -1039,13 +1235,24 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
     for (int j = 0; j < nc; ++j) {
       const int c = c0 + j;
       float* col = strip.data() + j;  // row k at col[k * kStrip]
-      if (c < stripe_w) add_stripe_column(paths, c, r0, rows, col, kStrip);  // 0. the stripe (trace_laser_paths)
+      touched_lo = rows;
+      touched_hi = -1;
+      if (c < stripe_w) {  // 0. the stripe (trace_laser_paths)
+        add_stripe_column(paths, c, r0, rows, col, kStrip);
+        const int first = paths.stripe_first_row[static_cast<std::size_t>(c)] - r0;
+        const int count = paths.stripe_offset[static_cast<std::size_t>(c) + 1] - paths.stripe_offset[static_cast<std::size_t>(c)];
+        if (count > 0) {
+          touched_lo = std::max(0, first);
+          touched_hi = std::min(rows - 1, first + count - 1);
+        }
+      }
       splat(c, paths.bounce_row, paths.bounce_sigma, paths.bounce_radiance, col);
       splat(c, paths.mirror_row, paths.mirror_sigma, paths.mirror_radiance, col);
       if (!speckle) continue;
-      // Speckle touches only the rows around the laser light of the column.
+      // Speckle touches only the rows around the laser light of the column
+      // (searched among the rows written).
       int lo = rows, hi = -1;
-      for (int k = 0; k < rows; ++k)
+      for (int k = touched_lo; k <= touched_hi; ++k)
         if (col[static_cast<std::size_t>(k) * kStrip] > 0.0f) {
           lo = std::min(lo, k);
           hi = k;
@@ -1068,8 +1275,12 @@ void form_image(const ScannerDesc& d, RadianceImage& rad, const LaserPaths& path
       for (int k = 0; k < m; ++k)
         col[static_cast<std::size_t>(first + k) * kStrip] = static_cast<float>(a * ((1.0 - f) * src[k] + f * src[k - 1]));
     }
-    for (int k = 0; k < rows; ++k)
-      std::copy_n(strip.data() + static_cast<std::size_t>(k) * kStrip, nc, laser.data() + static_cast<std::size_t>(k) * w + c0);
+    for (int k = 0; k < rows; ++k) {
+      const float* from = strip.data() + static_cast<std::size_t>(k) * kStrip;
+      float* to = laser.data() + static_cast<std::size_t>(k) * w + c0;
+      if (nc == kStrip) std::memcpy(to, from, sizeof(float) * kStrip);  // (a fixed size: inlined)
+      else std::copy_n(from, nc, to);
+    }
   }
   sensor_counts(sensor, static_cast<std::uint32_t>(static_cast<std::size_t>(w) * rows), laser.data(), rad.ambient.data(),
                 out.pixels.data());

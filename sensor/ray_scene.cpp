@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -197,6 +198,89 @@ bool RayScene::occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, floa
   ray.flags = 0;
   rtcOccluded1(scene_.get(), &context, &ray);
   return ray.tfar < 0.0f;
+}
+
+namespace {
+
+// Lanes 0 .. m - 1 (1 <= m <= 8) of an 8-ray packet from rays[0 .. m - 1];
+// the other lanes are invalid (a copy of the last ray, not cast).
+void set_lanes(const RayScene::Segment* rays, std::size_t m, int* valid, RTCRay8& ray) {
+  for (std::size_t k = 0; k < 8; ++k) {
+    const RayScene::Segment& r = rays[std::min(k, m - 1)];
+    valid[k] = k < m ? -1 : 0;
+    ray.org_x[k] = r.o.x();
+    ray.org_y[k] = r.o.y();
+    ray.org_z[k] = r.o.z();
+    ray.dir_x[k] = r.d.x();
+    ray.dir_y[k] = r.d.y();
+    ray.dir_z[k] = r.d.z();
+    ray.tnear[k] = r.tnear;
+    ray.tfar[k] = r.tfar;
+    ray.time[k] = 0.0f;
+    ray.mask[k] = 0xFFFFFFFFu;
+    ray.id[k] = 0;
+    ray.flags[k] = 0;
+  }
+}
+
+RTCRay8& ray_of(RTCRay8& p) { return p; }
+RTCRay8& ray_of(RTCRayHit8& p) { return p.ray; }
+
+// Casts rays[0 .. n - 1] as packets of 8 (Packet: RTCRay8 or RTCRayHit8):
+// cast(valid, context, packet) then read(first, m, packet) for rays
+// first .. first + m - 1.
+template <class Packet, class Cast, class Read>
+void in_packets(const RayScene::Segment* rays, std::size_t n, Cast cast, Read read) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (std::size_t first = 0; first < n; first += 8) {
+    const std::size_t m = std::min<std::size_t>(8, n - first);
+    alignas(32) int valid[8];
+    alignas(32) Packet packet;
+    set_lanes(rays + first, m, valid, ray_of(packet));
+    cast(valid, &context, packet);
+    read(first, m, packet);
+  }
+}
+
+}  // namespace
+
+void RayScene::occluded(const Segment* rays, std::size_t n, unsigned char* blocked) const {
+  in_packets<RTCRay8>(
+      rays, n,
+      [&](const int* valid, RTCIntersectContext* context, RTCRay8& ray) {
+        rtcOccluded8(valid, scene_.get(), context, &ray);
+      },
+      [&](std::size_t first, std::size_t m, const RTCRay8& ray) {
+        for (std::size_t k = 0; k < m; ++k) blocked[first + k] = ray.tfar[k] < 0.0f ? 1 : 0;
+      });
+}
+
+void RayScene::intersect(const Segment* rays, std::size_t n, Hit* hits, unsigned char* found) const {
+  in_packets<RTCRayHit8>(
+      rays, n,
+      [&](const int* valid, RTCIntersectContext* context, RTCRayHit8& rh) {
+        for (int k = 0; k < 8; ++k) {
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect8(valid, scene_.get(), context, &rh);
+      },
+      [&](std::size_t first, std::size_t m, const RTCRayHit8& rh) {
+        for (std::size_t k = 0; k < m; ++k) {
+          found[first + k] = 0;
+          if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+          Eigen::Vector3f nrm = world_normal(Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]),
+                                             rh.hit.instID[0][k]);
+          const float norm = nrm.norm();
+          if (!(norm > 0.0f)) continue;
+          nrm /= norm;
+          Hit& hit = hits[first + k];
+          hit.t = rh.ray.tfar[k];
+          hit.normal = nrm.dot(rays[first + k].d) > 0.0f ? Eigen::Vector3f(-nrm) : nrm;
+          found[first + k] = 1;
+        }
+      });
 }
 
 }  // namespace vts

@@ -4,12 +4,14 @@
 // build quality, Embree's threads bounded by the thread limit
 // (common/parallel.h). The ray-cast reference (sensor/reference_source.h)
 // casts its column and camera-shadow packets into it; the camera image
-// (sensor/camera_image.h) casts single rays for the laser's bounce.
+// (sensor/camera_image.h) casts its rays (primary, bounce, mirror, the
+// stripe's checks) 8 at a time and single ones pixel by pixel at edges.
 // Queries are thread-safe. The scene is immutable once built, except for an
 // optional moving part (a second mesh, an instance of its own scene) whose
 // rigid motion move_part() sets between queries, never during them: the
 // sim cell's wall lifting off its plate under thermal distortion
 // (sensor/sim_cell.h).
+#include <cstddef>
 #include <memory>
 #include <optional>
 
@@ -53,6 +55,16 @@ class RayScene {
                  Hit& hit) const;
   // Whether anything lies on the ray between tnear and tfar.
   bool occluded(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tnear, float tfar) const;
+  // The same for n rays (any n >= 0), cast 8 at a time (rtcOccluded8):
+  // blocked[k] = 1 when ray k is occluded, else 0.
+  struct Segment {
+    Eigen::Vector3f o, d;
+    float tnear = 0.0f, tfar = 0.0f;
+  };
+  void occluded(const Segment* rays, std::size_t n, unsigned char* blocked) const;
+  // The nearest hits of n rays (the unit direction d of each), 8 at a time
+  // (rtcIntersect8): found[k] = 1 and hits[k] as intersect gives it, or 0.
+  void intersect(const Segment* rays, std::size_t n, Hit* hits, unsigned char* found) const;
 
   // Puts the moving part where the rigid `motion` (world) takes its mesh as
   // given. Not thread-safe against queries. Throws std::logic_error without

@@ -242,6 +242,27 @@ TEST_CASE("sim cell: a thermal lift opens the gap under the wall ahead of the ar
   }
   // Behind the arc the weld holds it: no gap.
   CHECK(hits_wall_behind(scene, at - 20.0 * d, n, a));
+  // Rays cast 8 at a time see the moved wall as single rays do, its normal
+  // turned into the world.
+  std::vector<vts::RayScene::Segment> rays;
+  for (int k = 0; k < 11; ++k) {
+    const Vec3 o = at + (5.0 + 9.0 * k) * d + 0.6 * n + 2.0 * a;
+    rays.push_back({o.cast<float>(), (-a).cast<float>(), 0.0f, 10.0f});
+  }
+  std::vector<vts::RayScene::Hit> hits(rays.size());
+  std::vector<unsigned char> found(rays.size());
+  scene.intersect(rays.data(), rays.size(), hits.data(), found.data());
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    vts::RayScene::Hit one;
+    const bool single = scene.intersect(rays[k].o, rays[k].d, rays[k].tnear, rays[k].tfar, one);
+    INFO("ray " << k);
+    REQUIRE(static_cast<bool>(found[k]) == single);
+    if (single) {
+      CHECK(hits[k].t == one.t);
+      CHECK((hits[k].normal - one.normal).norm() < 1e-6f);
+      CHECK(hits[k].normal.cast<double>().dot(a) == Approx(1.0).margin(1e-6));
+    }
+  }
 }
 
 TEST_CASE("open loop: a perfect robot's error is the distance between the planned and the true seam lines", "[sim]") {

@@ -6,6 +6,7 @@
 
 #include "sensor/mesh.h"
 #include "sensor/pose.h"
+#include "sensor/ray_scene.h"
 #include "sensor/reference_source.h"
 
 namespace {
@@ -275,4 +276,33 @@ TEST_CASE("reference: a moving part is scanned where move_part puts it, with its
   // A source without a moving part refuses to move one.
   auto rigid = vts::make_reference_source(desc, fixed);
   CHECK_THROWS_AS(rigid->move_part(away), std::logic_error);
+}
+
+TEST_CASE("ray scene: a turned moving part's hits have world normals, single rays and 8 at a time", "[reference]") {
+  // The moving part: the plane z = 100 (normal +-z as given), turned by w.
+  const Pose w = vts::pose_from_xyz_rpy(Vec3(10.0, -20.0, 30.0), Vec3(25.0, -40.0, 60.0));
+  vts::RayScene scene(Mesh{}, plane_at(100.0, Pose::Identity(), 300.0), "test");
+  scene.move_part(w);
+  const Vec3 n_world = w.linear() * Vec3::UnitZ();
+  std::vector<vts::RayScene::Segment> rays;
+  for (int k = 0; k < 11; ++k) {
+    // From the sensor at w, fanned in its x-z plane, towards the plane.
+    const Vec3 d = w.linear() * Vec3(0.05 * (k - 5), 0.0, 1.0).normalized();
+    rays.push_back({w.translation().cast<float>(), d.cast<float>(), 0.0f, 1000.0f});
+  }
+  std::vector<vts::RayScene::Hit> hits(rays.size());
+  std::vector<unsigned char> found(rays.size());
+  scene.intersect(rays.data(), rays.size(), hits.data(), found.data());
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    INFO("ray " << k);
+    vts::RayScene::Hit one;
+    REQUIRE(scene.intersect(rays[k].o, rays[k].d, rays[k].tnear, rays[k].tfar, one));
+    REQUIRE(found[k] == 1);
+    const double cos_k = rays[k].d.cast<double>().dot(n_world);
+    CHECK(one.t == Approx(100.0 / cos_k).margin(1e-3));
+    CHECK(hits[k].t == one.t);
+    // Facing the ray's origin: -n_world.
+    CHECK((one.normal.cast<double>() + n_world).norm() < 1e-5);
+    CHECK((hits[k].normal.cast<double>() + n_world).norm() < 1e-5);
+  }
 }
