@@ -44,9 +44,9 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const tk::ScoreTable table = run(o);
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
-      {tk::JointType::Fillet, {4, 0.93}},   {tk::JointType::Corner, {8, 0.49}},
-      {tk::JointType::Lap, {3, 0.58}},      {tk::JointType::Butt, {16, 0.73}},
-      {tk::JointType::VGroove, {46, 0.71}},
+      {tk::JointType::Fillet, {1, 0.93}},   {tk::JointType::Corner, {6, 0.49}},
+      {tk::JointType::Lap, {0, 0.58}},      {tk::JointType::Butt, {16, 0.73}},
+      {tk::JointType::VGroove, {45, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
