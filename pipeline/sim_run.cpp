@@ -110,8 +110,7 @@ SimRun run_sim(const SimSpec& spec, const std::function<void(const Profile&)>& r
   {
     RobotSensor loop(rig.sensor.get(), rig.head, spec.robot, spec.robot_seed);
     SeamDistortion distortion(run.cell);
-    if (spec.cell.distortion_deg_per_100mm != 0.0 || spec.cell.distortion_lift_deg_per_100mm != 0.0)
-      loop.distortion = &distortion;
+    if (spec.cell.distorted()) loop.distortion = &distortion;
     run.result = tk::Master(rig.master).run(loop, run.cell.nominal_world_from_workpiece, run.cell.plan);
     run.actual_tcp = loop.actual();
     run.robot_fault = loop.fault();

@@ -1,9 +1,11 @@
 #include "sensor/sim_cell.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include "sensor/error_model.h"
 #include "sensor/field_error.h"
@@ -141,6 +143,20 @@ Vec3 SimSeamTruth::lateral() const {
   return l.dot(wall_normal) < 0.0 ? Vec3(-l) : l;
 }
 
+namespace {
+
+// The disturbances that change the box's own shape or its welds (the lift
+// is modelled on the plain box; the saddle has none of them).
+std::array<std::pair<const char*, double>, 5> box_shape_keys(const SimCellParams& p) {
+  return {{{"seam1_short_mm", p.seam1_short_mm},
+           {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
+           {"seam1_bow_mm", p.seam1_bow_mm},
+           {"seam1_wave_mm", p.seam1_wave_mm},
+           {"tack_spacing_mm", p.tack_spacing_mm}}};
+}
+
+}  // namespace
+
 std::string validate(const SimCellParams& p) {
   const std::pair<const char*, double> positive[] = {
       {"box_side_mm", p.box_side_mm},         {"box_height_mm", p.box_height_mm},
@@ -176,15 +192,10 @@ std::string validate(const SimCellParams& p) {
       p.distortion_lift_deg_per_100mm > 5.0)
     return field_error("distortion_lift_deg_per_100mm", p.distortion_lift_deg_per_100mm,
                        "must be between 0 and 5 degrees");
-  if (p.distortion_lift_deg_per_100mm != 0.0) {
-    const std::pair<const char*, double> plain_box[] = {
-        {"seam1_short_mm", p.seam1_short_mm}, {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
-        {"seam1_bow_mm", p.seam1_bow_mm},     {"seam1_wave_mm", p.seam1_wave_mm},
-        {"tack_spacing_mm", p.tack_spacing_mm}};
-    for (const auto& [f, v] : plain_box)
+  if (p.distortion_lift_deg_per_100mm != 0.0)
+    for (const auto& [f, v] : box_shape_keys(p))
       if (v != 0.0)
         return field_error(f, v, "must be 0 with distortion_lift_deg_per_100mm (the lift is modelled on the plain box)");
-  }
   if (!std::isfinite(p.tack_first_mm) || p.tack_first_mm < 0.0)
     return field_error("tack_first_mm", p.tack_first_mm, "must be a finite number >= 0");
   if (!std::isfinite(p.tack_length_mm) || p.tack_length_mm <= 0.0 || p.tack_length_mm > 50.0)
@@ -193,13 +204,14 @@ std::string validate(const SimCellParams& p) {
     return field_error("tack_leg_mm", p.tack_leg_mm, "must be between 0 (exclusive) and 15 mm");
   if (p.workpiece == SimWorkpiece::Saddle) {
     if (const std::string why = validate(p.saddle); !why.empty()) return why;
-    const std::pair<const char*, double> box_only[] = {
-        {"seam1_short_mm", p.seam1_short_mm},   {"seam1_gap_rise_mm", p.seam1_gap_rise_mm},
-        {"seam1_bow_mm", p.seam1_bow_mm},       {"seam1_wave_mm", p.seam1_wave_mm},
-        {"tack_spacing_mm", p.tack_spacing_mm}, {"distortion_deg_per_100mm", p.distortion_deg_per_100mm},
+    const std::pair<const char*, double> distortions[] = {
+        {"distortion_deg_per_100mm", p.distortion_deg_per_100mm},
         {"distortion_lift_deg_per_100mm", p.distortion_lift_deg_per_100mm}};
-    for (const auto& [f, v] : box_only)
-      if (v != 0.0) return field_error(f, v, "is a disturbance of the box: must be 0 on the saddle");
+    const auto shape = box_shape_keys(p);
+    for (const auto& keys : {std::span<const std::pair<const char*, double>>(shape),
+                             std::span<const std::pair<const char*, double>>(distortions)})
+      for (const auto& [f, v] : keys)
+        if (v != 0.0) return field_error(f, v, "is a disturbance of the box: must be 0 on the saddle");
     // The laser plane, lookahead_mm ahead along the tangent, must still cut
     // the branch near the seam: it cuts it asin(lookahead / r) further round.
     if (p.lookahead_mm > 0.5 * p.saddle.branch_radius_mm)
@@ -272,13 +284,14 @@ SimCell build_sim_cell(const SimCellParams& p) {
       bowed.emplace_back(x, y);
     }
   }
-  if (p.distortion_lift_deg_per_100mm != 0.0) {
-    // The plain box (validate), kept apart so that it can lift off the plate.
-    cell.fixed_part = cell.mesh;
-    cell.moving_part = plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box);
-    cell.mesh.append(cell.moving_part);
-  } else if (bowed.empty()) {
-    cell.mesh.append(plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box));
+  if (bowed.empty()) {
+    const Mesh box = plate_mesh(block(-h, x1, -h, h, 0.0, p.box_height_mm), 10.0, actual * plate_from_box);
+    if (p.distortion_lift_deg_per_100mm != 0.0) {
+      // Kept apart so that it can lift off the plate (validate: the plain box).
+      cell.fixed_part = cell.mesh;
+      cell.moving_part = box;
+    }
+    cell.mesh.append(box);
   } else {
     // The box behind the wall (from 5 mm inside the wall's innermost point
     // to the far side), and strips from the wall to it, each a convex
@@ -370,20 +383,19 @@ SimCell build_sim_cell(const SimCellParams& p) {
     }
   }
 
-  if (p.distortion_deg_per_100mm != 0.0 || p.distortion_lift_deg_per_100mm != 0.0) {
+  if (p.distorted()) {
     // Seam 2 as the part lies once seam 1 is welded to its end. The lift
     // turns its wall about its own foot (the axis through seam 1's end):
     // only the wall's normal changes.
     SeamDistortion d(cell);
     d.update(cell.truth[0].end + 1.0 * cell.truth[0].direction());
     const Pose m = d.part_motion();
-    cell.truth[1].wall_normal = d.wall_motion().linear() * cell.truth[1].wall_normal;
     SimSeamTruth& t = cell.truth[1];
     t.start = m * t.start;
     t.end = m * t.end;
     for (Vec3& q : t.path) q = m * q;
     t.plate_normal = m.linear() * t.plate_normal;
-    t.wall_normal = m.linear() * t.wall_normal;
+    t.wall_normal = m.linear() * d.wall_motion().linear() * t.wall_normal;
   }
   return cell;
 }

@@ -79,6 +79,8 @@ struct SimCellParams {
   // Needs the plain box (no bow, wave, gap rise, shortening or tacks) and
   // the ray-cast reference source (the moving wall is an Embree instance).
   double distortion_lift_deg_per_100mm = 0.0;
+  // Either kind of thermal distortion asked for (SeamDistortion).
+  bool distorted() const { return distortion_deg_per_100mm != 0.0 || distortion_lift_deg_per_100mm != 0.0; }
   // Sensor mount: the laser plane lookahead_mm ahead of the TCP, the laser
   // origin standoff_mm back along the torch axis (= the optical axis).
   double lookahead_mm = 50.0;

@@ -49,8 +49,7 @@ CellHost::CellHost(const HostOptions& options) : options_(options), step_events_
     home = cell_->cell.path.pose_at(0) * cell_->scanner.tool_from_laser.inverse();
   } else {
     box_.emplace(make_sim_rig(options.sim));
-    if (options.sim.cell.distortion_deg_per_100mm != 0.0 || options.sim.cell.distortion_lift_deg_per_100mm != 0.0)
-      distortion_.emplace(box_->run.cell);
+    if (options.sim.cell.distorted()) distortion_.emplace(box_->run.cell);
     // Where the master's first move will take it from: the nominal
     // workpiece origin, 200 mm up, torch down.
     home.translation() = box_->run.cell.nominal_world_from_workpiece * Eigen::Vector3d(0.0, 0.0, 200.0);
