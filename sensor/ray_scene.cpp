@@ -133,8 +133,6 @@ static_assert(RayScene::kNoInstance == RTC_INVALID_GEOMETRY_ID);
 
 void RayScene::move_part(const Eigen::Isometry3d& motion) {
   if (!instance_) throw std::logic_error("RayScene::move_part: the scene has no moving part");
-  if (placed_ && motion.matrix() == placed_->matrix()) return;  // a commit costs ~0.1 ms
-  placed_ = motion;
   const Eigen::Matrix<float, 3, 4> xfm = motion.matrix().topRows<3>().cast<float>();  // column-major
   rtcSetGeometryTransform(instance_, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm.data());
   rtcCommitGeometry(instance_);
@@ -171,11 +169,15 @@ bool RayScene::intersect(const Eigen::Vector3f& o, const Eigen::Vector3f& d, flo
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_.get(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit.t = rh.ray.tfar;
-  Eigen::Vector3f n = world_normal(Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.hit.instID[0]);
+  return to_hit(Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), rh.hit.instID[0], rh.ray.tfar, d, hit);
+}
+
+bool RayScene::to_hit(const Eigen::Vector3f& ng, unsigned inst_id, float t, const Eigen::Vector3f& d, Hit& hit) const {
+  Eigen::Vector3f n = world_normal(ng, inst_id);
   const float norm = n.norm();
   if (!(norm > 0.0f)) return false;
   n /= norm;
+  hit.t = t;
   hit.normal = n.dot(d) > 0.0f ? Eigen::Vector3f(-n) : n;
   return true;
 }
@@ -268,17 +270,9 @@ void RayScene::intersect(const Segment* rays, std::size_t n, Hit* hits, unsigned
       },
       [&](std::size_t first, std::size_t m, const RTCRayHit8& rh) {
         for (std::size_t k = 0; k < m; ++k) {
-          found[first + k] = 0;
-          if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
-          Eigen::Vector3f nrm = world_normal(Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]),
-                                             rh.hit.instID[0][k]);
-          const float norm = nrm.norm();
-          if (!(norm > 0.0f)) continue;
-          nrm /= norm;
-          Hit& hit = hits[first + k];
-          hit.t = rh.ray.tfar[k];
-          hit.normal = nrm.dot(rays[first + k].d) > 0.0f ? Eigen::Vector3f(-nrm) : nrm;
-          found[first + k] = 1;
+          found[first + k] = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID &&
+                              to_hit(Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]),
+                                     rh.hit.instID[0][k], rh.ray.tfar[k], rays[first + k].d, hits[first + k]);
         }
       });
 }

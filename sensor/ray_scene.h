@@ -13,7 +13,6 @@
 // (sensor/sim_cell.h).
 #include <cstddef>
 #include <memory>
-#include <optional>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -80,6 +79,10 @@ class RayScene {
   static constexpr unsigned kNoInstance = ~0u;  // RTC_INVALID_GEOMETRY_ID
 
  private:
+  // A hit from Embree's geometric normal (of instance inst_id's mesh) and
+  // distance along d: the unit world normal facing the ray's origin; false
+  // for a degenerate normal.
+  bool to_hit(const Eigen::Vector3f& ng, unsigned inst_id, float t, const Eigen::Vector3f& d, Hit& hit) const;
   struct DeviceDeleter {
     void operator()(RTCDeviceTy* d) const;
   };
@@ -91,7 +94,6 @@ class RayScene {
   std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;   // released first
   RTCGeometryTy* instance_ = nullptr;          // the moving part in scene_ (owned by it)
   Eigen::Matrix3f moving_rotation_ = Eigen::Matrix3f::Identity();
-  std::optional<Eigen::Isometry3d> placed_;  // the last move_part()
 };
 
 }  // namespace vts
