@@ -249,6 +249,15 @@ struct VGrooveParams {
   double root_cover_share = 0.5;
   int root_cover_points = 5;
   double root_bump_t = 4.0;
+  // And of an open root's edges: a bevel ends where it is read. Its own
+  // points past that edge towards the root (runs of at least 3 in
+  // consecutive columns on its line and off the other bevel's, spanning
+  // root_past_mm along it: the bevel going on beyond a dropout or a
+  // shadow, not a surface crossing its line) lying more than root_past_mm
+  // past it reject the reading as `uncertain`, as the butt's edges are
+  // (ButtParams::edge_past_mm).
+  bool check_root_past = true;
+  double root_past_mm = 0.5;
 };
 
 // The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md
@@ -379,6 +388,12 @@ struct ConfidenceParams {
   // this distance (mm, a false read's) of where it is read; a reading left
   // below min_confidence mostly by it is rejected as "uncertain". 0: off.
   double track_interval_mm = 1.0;
+  // A bump beyond the joint (a run of more points than a reflection cluster
+  // standing in front of the reading's line on its side, that line's points
+  // on both sides of it: a cap on the surface, a tack weld's or a bead's)
+  // is a rival where the joint may lie, under it, as strong as its points'
+  // cost under the reading (docs/JOINTS.md "Evidence"). false: not weighed.
+  bool bump_rival = true;
 };
 
 // A prediction of where the joint is (sensor frame, mm), from the profiles

@@ -613,6 +613,65 @@ class Matcher {
     return best;
   }
 
+  // A bump beyond reading c's joint: a maximal run of more kept points than
+  // a reflection cluster (2 max_cluster_points) outside its plates' facing
+  // ends, each more than 2 surface tolerances and noise_k sigmas in front
+  // of (towards the sensor from) the line that explains it under c, with a
+  // point on that line on each side of it within max_merge_gap_points
+  // columns: a cap standing on the surface (a tack weld, a bead), under
+  // which the joint may be. A step to a third plate does not come back to
+  // the line (unexplained_beyond weighs it); a reflection cluster is
+  // shorter. Returns the strongest one's cost under c (as cost_under
+  // weighs a point; 0: none), its columns and its height (mm).
+  double bump_beyond(const Candidate& c, int& first_col, int& last_col, double& height_mm) const {
+    const int n = static_cast<int>(s_.cols.size());
+    if (n == 0) return 0.0;
+    const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
+    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    const int max_gap = std::max(1, p_.segmentation.segments.max_merge_gap_points);
+    // 1: on the reading's line there, 2: in front of it (off), 0: neither
+    // (behind it, or off by less than the bump's margin: ends nothing).
+    auto state = [&](int i, double& front) {
+      const Vec2& q = pt(i);
+      const int col = s_.cols[i];
+      double d = std::numeric_limits<double>::infinity(), sd = 0.0;
+      auto take = [&](double signed_d) {
+        if (std::abs(signed_d) < d) d = std::abs(signed_d), sd = signed_d;
+      };
+      if (col < ca) take(c.pa.signed_distance(q));
+      if (col > cb) take(c.pb.signed_distance(q));
+      for (int k = 0; k < c.n_more; ++k) take(c.more[k].signed_distance(q));
+      front = sd;
+      if (cost(d) == 0.0) return 1;
+      return sd > 2.0 * tol_ ? 2 : 0;
+    };
+    // Runs of points off the line (in front, or off by less than the
+    // margin: noise over a cap's feet) between two points on it; a bump
+    // when more than max_cluster of them stand in front.
+    double best = 0.0;
+    int last_on = -1, fronts = 0, run_first = -1, run_last = -1;
+    double sum = 0.0, top = 0.0;
+    auto reset = [&] { fronts = 0, sum = 0.0, top = 0.0, run_first = run_last = -1; };
+    for (int i = 0; i < n; ++i) {
+      const int col = s_.cols[i];
+      if ((col >= ca && col <= cb) || (i > 0 && col - s_.cols[i - 1] > max_gap)) {  // the joint's own, a gap
+        last_on = -1, reset();
+        if (col >= ca && col <= cb) continue;
+      }
+      double f = 0.0;
+      const int st = state(i, f);
+      if (st == 1) {
+        if (last_on >= 0 && fronts > max_cluster && sum > best)
+          best = sum, first_col = s_.cols[run_first], last_col = s_.cols[run_last], height_mm = top;
+        last_on = i, reset();
+      } else if (st == 2) {
+        if (run_first < 0) run_first = i;
+        run_last = i, ++fronts, sum += cost(std::abs(f)), top = std::max(top, f);
+      }
+    }
+    return best;
+  }
+
  private:
   // A point's cost at distance d from the line that explains it: nothing
   // within noise_k sigmas (noise, waviness: no evidence either way), then
@@ -3538,8 +3597,46 @@ class Matcher {
                         rb.height_mm, 100.0 * rb.share, rb.points);
         }
       }
+      if (vp.check_root_past && c.accepted && open_root) {
+        const double past = std::max(bevel_past(bl, br, el.point, pr->ua, from, to, vp.root_past_mm),
+                                     bevel_past(br, bl, er.point, pr->ub, from, to, vp.root_past_mm));
+        if (past > vp.root_past_mm) {
+          c.accepted = false, c.uncertain = true;
+          std::snprintf(c.reason, sizeof c.reason,
+                        "uncertain: a bevel's points lie %.2g mm past its root edge as read (beyond a dropout or "
+                        "a shadow: the root is not where it is read)",
+                        past);
+        }
+      }
       offer(c);
     }
+  }
+
+  // How far bevel pl's own points lie past its root edge `edge` as read,
+  // towards the root (u: the unit direction up the bevel, away from the
+  // root): runs of at least kMinPlateRun kept points from..to in
+  // consecutive columns on its line and off the other bevel's, spanning at
+  // least `extent` mm along it (a surface crossing the line, a backing bar
+  // under the root, has a few points on it only where it crosses; 0: none).
+  double bevel_past(const Plate& pl, const Plate& other, const Vec2& edge, const Vec2& u, int from, int to,
+                    double extent) const {
+    double past = 0.0, lo = 0.0, hi = 0.0;
+    int run = 0, prev_col = -2;
+    for (int i = from; i <= to; ++i) {
+      const Vec2& q = pt(i);
+      const int col = s_.cols[i];
+      if (col != prev_col + 1) run = 0;
+      prev_col = col;
+      if (pl.line.distance(q) > tol_ || other.line.distance(q) <= tol_) {
+        run = 0;
+        continue;
+      }
+      const double along = (edge - q).dot(u);
+      if (run++ == 0) lo = hi = along;
+      lo = std::min(lo, along), hi = std::max(hi, along);
+      if (run >= kMinPlateRun && hi - lo >= extent) past = std::max(past, hi);
+    }
+    return past;
   }
 
   // The kept points from..to between an open root's edges a and b (their
@@ -3777,7 +3874,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     int u_first = 0, u_last = 0;
     const double beyond = m.unexplained_beyond(best, u_first, u_last);
     const double step_rival = beyond > 0.0 ? std::exp(std::min((beyond - e) / tau, 700.0)) : 0.0;
-    const double found = 1.0 / (1.0 + against + rivals + step_rival);
+    // So is a bump beyond it (a tack weld or a bead on the surface).
+    int b_first = 0, b_last = 0;
+    double b_height = 0.0;
+    const double bump = cp.bump_rival ? m.bump_beyond(best, b_first, b_last, b_height) : 0.0;
+    const double bump_rival = bump > 0.0 ? std::exp(std::min((bump - e) / tau, 700.0)) : 0.0;
+    const double found = 1.0 / (1.0 + against + rivals + step_rival + bump_rival);
     // ...and that it is where it is read (docs/JOINTS.md "Localization").
     double off = 0.0;
     if (best.located) {
@@ -3814,6 +3916,11 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
                       "uncertain: confidence %.2f, the track point is located to %.2g mm (rms; %.0f %% chance of "
                       "more than %g mm off)",
                       out.confidence, out.track_sigma_mm, 100.0 * off, cp.track_interval_mm);
+      else if (bump_rival > std::max({rivals, against, step_rival}))
+        std::snprintf(buf, sizeof buf,
+                      "ambiguous: confidence %.2f, a bump %.2g mm high over columns %d-%d (a tack weld or a "
+                      "bead?): the joint may be under it",
+                      out.confidence, b_height, b_first, b_last);
       else if (step_rival > std::max(rivals, against))
         std::snprintf(buf, sizeof buf,
                       "ambiguous: confidence %.2f, the points of columns %d-%d are a step off the reading's "

@@ -45,8 +45,8 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {1, 0.93}},   {tk::JointType::Corner, {6, 0.49}},
-      {tk::JointType::Lap, {0, 0.58}},      {tk::JointType::Butt, {16, 0.73}},
-      {tk::JointType::VGroove, {45, 0.71}},
+      {tk::JointType::Lap, {0, 0.58}},      {tk::JointType::Butt, {13, 0.73}},
+      {tk::JointType::VGroove, {39, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -227,6 +227,10 @@ TEST_CASE("corpus: far butt readings whose rival is nearly as strong are ambiguo
                         {vc::Joint::Butt, 188, 0.2},  {vc::Joint::VGroove, 47, 0.05}};
   tk::TrackerParams raw;
   raw.confidence.temperature = 1.0;
+  // (Butt 251 at 0.1 mm is a tack weld over the joint, which the bump
+  // rival rejects at either temperature: left out at T = 1, as it was when
+  // the temperature was chosen.)
+  raw.confidence.bump_rival = false;
   for (const Case& c : cases) {
     const ReadOne one = read_one(c.joint, c.seed, c.level);
     const ReadOne before = read_one(c.joint, c.seed, c.level, raw);
