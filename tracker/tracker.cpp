@@ -2886,6 +2886,25 @@ class Matcher {
       offer(c);
       return;
     }
+    // Nor on a step: the bottom under B3 is the root (its gap closed at
+    // the root edges, level but for the plates' mismatch) or the fill,
+    // smooth there. Two neighbours on the polyline farther apart in depth
+    // than track_interval_mm beyond the mismatch (a square wall's seen end
+    // and the other toe with the root between unseen, a dropout over a
+    // bead's edge) leave B3's depth unknown between them.
+    if (under_k + 1 < poly.size()) {
+      const double step = std::abs((poly[under_k + 1] - poly[under_k]).dot(down));
+      const double mismatch = std::abs(a.line.signed_distance(b5));
+      if (step > p_.confidence.track_interval_mm + mismatch) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the track point lies on a step of %.3g mm in the groove's bottom (its points there %.3g mm "
+                      "apart; plates' mismatch %.3g mm): its depth is not known",
+                      step, under, mismatch);
+        c.track = b3;
+        offer(c);
+        return;
+      }
+    }
     // And on the bottom's surface: B3's neighbours on the polyline must lie
     // on the line that most of the bottom's points within kB3SupportMm of it
     // (along the tops) lie on, within kB3OffMm (a bead's cap, a radius or a
