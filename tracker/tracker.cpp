@@ -2808,6 +2808,56 @@ class Matcher {
     top.n = Vec2(-(b5 - b1).y(), (b5 - b1).x()).normalized();
     top.c = top.n.dot(b1);
     top.orient_towards(origin_);
+    // A toe is where a wall ends and the bottom begins: the bottom (a bead's
+    // cap, the root, a U's or J's radius) does not run on from it as a
+    // straight run down at a wall's angle, deeper than a notch
+    // (max_notch_mm: rays into a root gap, a root face) and deeper than the
+    // wall read above the toe (a U's or J's radius seen by a few points
+    // lies within the noise of a line, 4-6 mm deep below a wall tens of mm
+    // deep). One that does is the wall going on below a piece of it that
+    // was read as the whole wall (a bent top, noise cutting the wall into
+    // pieces): the toe and the track point midway between the toes are not
+    // where they are read. The run is as steep as the wall read (within 15
+    // degrees, as wall_below joins a wall's pieces) or steeper: a radius
+    // or a bead's flank turns from the wall towards the bottom, less steep.
+    // The run: the longest from the bottom's first point beside the toe
+    // whose line the points fit within the surface tolerance (rms). Not at
+    // a bevel's or J's square wall, which runs on down as its root face
+    // (placed above).
+    {
+      const double max_sin = std::sin(gp.min_wall_deg * std::numbers::pi / 180.0);
+      for (int side = 0; side < 2; ++side) {
+        const bool is_a = side == 0;
+        if (!(is_a ? wa : wb) || (one_square && square_a == is_a)) continue;
+        if (bot_last - bot_first + 1 < gp.min_wall_points) continue;
+        const Vec2& t = is_a ? b2 : b4;
+        int run_end = -1;
+        std::optional<LineFit> run_fit;
+        for (int k = 0; k <= bot_last - bot_first; ++k) {
+          const int lo = is_a ? bot_first : bot_last - k, hi = is_a ? bot_first + k : bot_last;
+          if (k + 1 < gp.min_wall_points) continue;
+          const auto f = s_.fit(lo, hi);
+          if (!f) continue;
+          if (f->rms_mm > 2.0 * tol_) break;
+          if (f->rms_mm <= tol_) run_end = is_a ? hi : lo, run_fit = f;
+        }
+        if (run_end < 0) continue;
+        const double sin_top = std::abs(run_fit->line.n.x() * a.line.n.y() - run_fit->line.n.y() * a.line.n.x());
+        const double descent = depth_below(top, pt(run_end)) - depth_below(top, t);
+        const double wall_descent = depth_below(top, t) - depth_below(top, is_a ? b1 : b5);
+        const double run_deg = std::asin(std::min(1.0, sin_top)) * 180.0 / std::numbers::pi;
+        const double wall_deg = acute_angle_deg(is_a ? la : lb, is_a ? a.line : b.line);
+        if (sin_top >= max_sin && run_deg >= wall_deg - 15.0 && descent > std::max(gp.max_notch_mm, wall_descent)) {
+          std::snprintf(c.reason, sizeof c.reason,
+                        "the %s wall goes on below its toe: the bottom beside it runs straight down %.3g mm at %.3g "
+                        "deg to the tops (its foot is not where it is read)",
+                        is_a ? "first" : "second", descent, run_deg);
+          c.track = 0.5 * (b2 + b4);
+          offer(c);
+          return;
+        }
+      }
+    }
     {
       const double limit = std::max(gp.agree_mm, 3.0 * tol_);
       for (int side = 0; side < 2; ++side) {
@@ -2894,6 +2944,25 @@ class Matcher {
       c.track = b3;
       offer(c);
       return;
+    }
+    // Nor on a step: the bottom under B3 is the root (its gap closed at
+    // the root edges, level but for the plates' mismatch) or the fill,
+    // smooth there. Two neighbours on the polyline farther apart in depth
+    // than track_interval_mm beyond the mismatch (a square wall's seen end
+    // and the other toe with the root between unseen, a dropout over a
+    // bead's edge) leave B3's depth unknown between them.
+    if (under_k + 1 < poly.size()) {
+      const double step = std::abs((poly[under_k + 1] - poly[under_k]).dot(down));
+      const double mismatch = std::abs(a.line.signed_distance(b5));
+      if (step > p_.confidence.track_interval_mm + mismatch) {
+        std::snprintf(c.reason, sizeof c.reason,
+                      "the track point lies on a step of %.3g mm in the groove's bottom (its points there %.3g mm "
+                      "apart; plates' mismatch %.3g mm): its depth is not known",
+                      step, under, mismatch);
+        c.track = b3;
+        offer(c);
+        return;
+      }
     }
     // And on the bottom's surface: B3's neighbours on the polyline must lie
     // on the line that most of the bottom's points within kB3SupportMm of it
