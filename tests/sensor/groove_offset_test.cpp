@@ -186,6 +186,16 @@ TEST_CASE("groove offset: a crowned cap on a tilted chord, a bead pushed against
   CHECK(slope < 12.0 * 4.0 * 12.0 / std::pow(2.0 * half_width(12.0), 2));  // less than the 12 mm asked for
   CHECK(deposit(pushed.toe_a_yz.y() - slope * pushed.toe_a_yz.x(), slope) ==
         Approx(2.0 * (4.0 + 0.5 * kT30 * (144.0 - 64.0))).margin(1e-3));
+  // The root bead pushed 3 mm towards b: its layer thins to nothing at root
+  // edge a, which stays covered (toe a on it), and the fill is accepted.
+  p.passes = 1;
+  p.bead_offsets_mm = {3.0};
+  REQUIRE(validate(JointType::VGroove, p).empty());
+  const JointTruth root = build_workpiece(JointType::VGroove, p).truth;
+  CHECK(root.toe_a_yz.y() == Approx(0.0).margin(1e-6));
+  CHECK(root.toe_a_yz.x() == Approx(-1.0).margin(1e-6));
+  CHECK(root.toe_b_yz.y() > 4.0);
+  p.passes = 3;
   p.bead_offsets_mm = {0.0, NAN};
   CHECK(validate(JointType::VGroove, p).find("must be a finite number") != std::string::npos);
 }
