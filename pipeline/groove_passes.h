@@ -33,7 +33,9 @@ struct GroovePassSpec {
   int profiles = 10;      // per pass, along the cell's path
   SourceKind source = SourceKind::Raster;
   std::uint64_t seed = 1;  // the error model's draws (seed + pass)
-  FillMode fill = FillMode::Model;
+  // Adaptive: each bead laid where the sensor said (as `vts sim --cell`);
+  // Model: centred between the walls, whatever the sensor said.
+  FillMode fill = FillMode::Adaptive;
   // Adaptive: added to every reported next-bead point along the laser line
   // (sensor y, mm) before it is taken into the part frame, as a sensor
   // mounted that far off its calibrated place across the seam would report.

@@ -177,6 +177,8 @@ bool any_offset(const JointParams& p) {
 // that slope would take the chord below the old one at a wall, the slope is
 // brought back towards the old one until the chord just touches it there
 // (the layer thins to nothing at that wall).
+constexpr double kMaxBeadTiltDeg = 15.0;
+
 void lay_beads(Shape& s, const JointParams& p) {
   const std::vector<Vec2> open = open_section(s);
   double c = 0.0, k = 0.0, area = area_below(open, 0.0, 0.0);
@@ -202,7 +204,12 @@ void lay_beads(Shape& s, const JointParams& p) {
     auto fits = [&](double kk, double cc) {
       return cc + kk * old_a.x() >= old_a.y() - 1e-9 && cc + kk * old_b.x() >= old_b.y() - 1e-9;
     };
-    const double k_want = std::isfinite(delta) ? 12.0 * p.layer_mm * delta / (w * w) : 0.0;
+    // A pool in the flat position holds no steeper top than kMaxBeadTiltDeg:
+    // a narrow layer (the root's) wets both walls and levels, its deposit's
+    // centroid moving less than the torch.
+    const double k_max = std::tan(kMaxBeadTiltDeg * std::numbers::pi / 180.0);
+    const double k_want =
+        std::isfinite(delta) ? std::clamp(12.0 * p.layer_mm * delta / (w * w), -k_max, k_max) : 0.0;
     double k_new = k_want, c_new = level_for(k_want);
     if (!fits(k_new, c_new)) {
       double lo = 0.0, hi = 1.0;  // of the way from the old slope to the one wanted

@@ -20,6 +20,7 @@ TEST_CASE("groove passes: the sensor asked between passes of vgroove-thick", "[p
   spec.source = vts::SourceKind::Reference;
   spec.last_pass = 5;
   spec.profiles = 3;
+  spec.fill = vts::FillMode::Model;  // the hand-worked flat layers below
   const vts::GroovePassRun run = vts::run_groove_passes(spec);
   REQUIRE(run.passes.size() == 6);
   double area_before = INFINITY;
