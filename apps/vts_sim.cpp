@@ -31,6 +31,7 @@ struct SimOptions : BoxOptions {
   std::string out_dir, replay, scenario;
   bool list_scenarios = false, all = false;
   std::string cell, scene, passes, first_pass, profiles;  // a multi-pass groove instead of the box
+  std::string fill, fill_bias;                             // ... where its beads go
   bool json = false;
 };
 
@@ -169,12 +170,19 @@ int run_passes(const SimOptions& o) {
   if (!o.first_pass.empty())
     spec.first_pass = static_cast<int>(parse_number("--first-pass", o.first_pass, 0.0, 1000.0, "beads"));
   if (!o.profiles.empty()) spec.profiles = static_cast<int>(parse_number("--profiles", o.profiles, 1.0, 100000.0, "profiles"));
+  if (o.fill.empty() || o.fill == "adaptive") spec.fill = FillMode::Adaptive;
+  else if (o.fill == "model") spec.fill = FillMode::Model;
+  else bad("--fill", o.fill, "expected adaptive (each bead where the sensor said; default) or model (where the cell's model centres it)");
+  if (!o.fill_bias.empty()) {
+    if (spec.fill != FillMode::Adaptive) bad("--fill-bias", o.fill_bias, "only with the adaptive fill, not with --fill model");
+    spec.bias_mm = parse_number("--fill-bias", o.fill_bias, -20.0, 20.0, "mm");
+  }
   if (const std::string why = validate(spec); !why.empty()) throw cli::UsageError(why);
   cli::apply_thread_limit(o.threads);
   const GroovePassRun run = run_groove_passes(spec);
   if (o.json) std::cout << groove_passes_json(run).dump() << "\n";
   else std::cout << groove_passes_markdown(run) << "\n";
-  bool all = true;
+  bool all = run.stopped.empty();
   for (const GroovePass& p : run.passes) all = all && p.ok > 0;
   return all ? cli::kExitOk : cli::kExitRuntime;
 }
@@ -269,6 +277,8 @@ int run_scenarios(const SimOptions& o) {
                                {"--cell", &o.cell}, {"--scene", &o.scene}})
     if (!v->empty()) bad(opt, *v, "a scenario sets it in its file; not with --scenario or --all");
   if (o.all && !o.scenario.empty()) bad("--scenario", o.scenario, "give --scenario or --all, not both");
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--fill", &o.fill}, {"--fill-bias", &o.fill_bias}})
+    if (!v->empty()) bad(opt, *v, "only with --cell or --scene (a multi-pass groove)");
   std::vector<Scenario> scenarios;
   try {
     if (o.all) {
@@ -326,6 +336,8 @@ int run_scenarios(const SimOptions& o) {
 int run_sim(const SimOptions& o) {
   if (o.list_scenarios || o.all || !o.scenario.empty()) return run_scenarios(o);
   if (!o.cell.empty() || !o.scene.empty()) return run_passes(o);
+  for (const auto& [opt, v] : {std::pair<const char*, const std::string*>{"--fill", &o.fill}, {"--fill-bias", &o.fill_bias}})
+    if (!v->empty()) bad(opt, *v, "only with --cell or --scene (a multi-pass groove)");
   const SimPlan plan = plan_sim(o);  // throws UsageError; nothing created yet
   const SimSpec& spec = plan.spec;
   const Simulated sim = simulate(spec, plan.out_dir);
@@ -371,8 +383,9 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
                 "array; exit 0 when every verdict is the expected one");
   cmd->add_option("--cell", o->cell,
                   "Instead of the box: a multi-pass weld of a groove cell (vgroove-thick, bevel-thick, "
-                  "ugroove-fill, ...): beads laid pass after pass, the sensor asked between them; prints per pass "
-                  "the measured and true depth and area left and the next bead's place (docs/SIM.md)")
+                  "ugroove-fill, ...): beads laid pass after pass, the sensor asked between them, each bead laid "
+                  "where the sensor said (--fill); prints per pass the measured and true depth and area left, the "
+                  "next bead's place and where it was laid against the model's centre (docs/SIM.md)")
       ->type_name("NAME");
   cmd->add_option("--scene", o->scene, "As --cell, from a scene file with one groove workpiece")->type_name("FILE");
   cmd->add_option("--passes", o->passes, "With --cell: beads laid before the last scan (default: the cell's)")
@@ -381,6 +394,16 @@ CLI::App* add_sim_command(CLI::App& app, int& exit_code) {
       ->type_name("N");
   cmd->add_option("--profiles", o->profiles, "With --cell: profiles per pass along the cell's path (default 10)")
       ->type_name("N");
+  cmd->add_option("--fill", o->fill,
+                  "With --cell: where each bead goes. adaptive (default): where the sensor said between the passes "
+                  "(the tracker's next-bead point, median over the accepted profiles, in the part frame), with the "
+                  "bead model's deposit, the geometry rebuilt with the bead there; the run stops when a pass has no "
+                  "accepted profile. model: where the cell's model centres it, whatever the sensor said")
+      ->type_name("adaptive|model");
+  cmd->add_option("--fill-bias", o->fill_bias,
+                  "With --cell and the adaptive fill: add MM (-20..20) along the laser line to every reported "
+                  "next-bead point, as a sensor mounted that far off across the seam would report (default 0)")
+      ->type_name("MM");
   cmd->callback([o, &exit_code] {
     try {
       exit_code = run_sim(*o);

@@ -62,6 +62,7 @@ int run_static(const StaticOptions& o) {
     g.profiles = spec.profiles;
     g.source = spec.source;
     g.seed = spec.seed;
+    g.fill = FillMode::Model;  // one scan of the cell as built: no bead laid after it
     grooves.push_back(run_groove_passes(g));
   }
   const std::string grooves_md = groove_cells_markdown(grooves);

@@ -32,6 +32,8 @@ std::string fmt(double v, int decimals) {
 
 }  // namespace
 
+std::string_view to_string(FillMode mode) { return mode == FillMode::Adaptive ? "adaptive" : "model"; }
+
 std::string validate(const GroovePassSpec& spec) {
   if (spec.cell.workpieces.size() != 1) return "the cell must hold one groove workpiece";
   const Workpiece& w = spec.cell.workpieces.front();
@@ -45,6 +47,10 @@ std::string validate(const GroovePassSpec& spec) {
   JointParams p = w.params;
   p.passes = last;
   if (const std::string e = vts::validate(w.type, p); !e.empty()) return e;
+  if (!std::isfinite(spec.bias_mm) || std::abs(spec.bias_mm) > 20.0)
+    return "bias = " + fmt(spec.bias_mm, 3) + " mm: must be -20..20";
+  if (spec.bias_mm != 0.0 && spec.fill != FillMode::Adaptive)
+    return "a bias on the reported next-bead point only moves beads with the adaptive fill";
   return {};
 }
 
@@ -56,7 +62,14 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
   run.cell = spec.cell.name;
   run.conditions = std::string(spec.source == SourceKind::Raster ? "raster emulator" : "Embree reference") + ", " +
                    (spec.cell.scanner.ideal ? "ideal profiles" : "error model on, seed " + std::to_string(spec.seed)) +
-                   ", " + spec.cell.scanner.name + ", " + std::to_string(spec.profiles) + " profiles per pass";
+                   ", " + spec.cell.scanner.name + ", " + std::to_string(spec.profiles) + " profiles per pass, " +
+                   (spec.fill == FillMode::Adaptive ? "adaptive fill (each bead where the sensor said)"
+                                                    : "beads where the cell's model centres them");
+  if (spec.bias_mm != 0.0) run.conditions += ", next-bead point biased " + fmt(spec.bias_mm, 3) + " mm along the laser line";
+  run.fill = spec.fill;
+  // Where the beads were laid, from the middle of the fill under each
+  // (JointParams::bead_offsets_mm); the ones before the first scan centred.
+  std::vector<double> offsets(static_cast<std::size_t>(spec.first_pass), 0.0);
   tk::TrackerParams params;
   params.joint = *tracker_joint(base.type);
   for (int laid = spec.first_pass; laid <= last; ++laid) {
@@ -64,6 +77,7 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
     scan.cell = spec.cell;
     JointParams p = base.params;
     p.passes = laid;
+    if (spec.fill == FillMode::Adaptive) p.bead_offsets_mm = offsets;
     scan.cell.workpieces.front() = build_workpiece(base.type, p, base.world_from_joint);
     scan.cell.path.profiles = spec.profiles;
     scan.source = spec.source;
@@ -82,7 +96,8 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
                          w.in_sensor_frame(scan.cell.path.pose_at(0), t.top_b_yz).x();
     pass.wall_a_true = a_first ? t.wall_angle_a_deg : t.wall_angle_b_deg;
     pass.wall_b_true = a_first ? t.wall_angle_b_deg : t.wall_angle_a_deg;
-    std::vector<double> depth, area, width, wa, wb, dy, dz;
+    std::vector<double> depth, area, width, wa, wb, dy, dz, across;
+    const Pose joint_from_world = w.world_from_joint.inverse();
     tk::Tracker tracker(params);
     tk::TrackResult r;
     CallbackSink sink([&](const ScanBatch& batch) {
@@ -99,13 +114,46 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
         wa.push_back(r.wall_angle_a_deg), wb.push_back(r.wall_angle_b_deg);
         const Vec2 b3 = w.in_sensor_frame(scan.cell.path.pose_at(prof.index), t.track_yz);
         dy.push_back(r.track_point->x() - b3.x()), dz.push_back(r.track_point->y() - b3.y());
+        // The reported point (biased as the sensor's mount would) into the
+        // part frame through the pose the profile was taken at.
+        const Vec3 q = joint_from_world * scan.cell.path.pose_at(prof.index) *
+                       Vec3(0.0, r.track_point->x() + spec.bias_mm, r.track_point->y());
+        across.push_back(q.y());
       }
     });
     run_scan_job(scan, sink);
     pass.depth = median(depth), pass.area = median(area), pass.width = median(width);
     pass.wall_a = median(wa), pass.wall_b = median(wb);
     pass.next_dy = median(dy), pass.next_dz = median(dz);
+    pass.model_y = t.track_yz.x();
+    pass.toe_a = t.toe_a_yz, pass.toe_b = t.toe_b_yz, pass.top_a = t.top_a_yz, pass.top_b = t.top_b_yz;
+    pass.reported_y = median(across);
+    if (laid < last) {
+      if (spec.fill == FillMode::Model) {
+        pass.laid_y = pass.model_y;
+        pass.bead_laid = true;
+      } else if (pass.ok == 0) {
+        run.stopped = "after " + std::to_string(laid) + " beads no profile was accepted (" + pass.first_reason +
+                      "): bead " + std::to_string(laid + 1) +
+                      " cannot be placed; the run stops there (a cell would stop and ask the operator)";
+      } else {
+        JointParams next = base.params;
+        next.passes = laid + 1;
+        next.bead_offsets_mm = offsets;
+        next.bead_offsets_mm.push_back(pass.reported_y - pass.model_y);
+        if (const std::string e = vts::validate(base.type, next); !e.empty()) {
+          run.stopped = "bead " + std::to_string(laid + 1) + " where the sensor said (" + fmt(pass.reported_y, 3) +
+                        " mm across, " + fmt(pass.reported_y - pass.model_y, 3) +
+                        " mm off the middle) cannot be laid: " + e + "; the run stops there";
+        } else {
+          pass.laid_y = pass.reported_y;
+          pass.bead_laid = true;
+          offsets = std::move(next.bead_offsets_mm);
+        }
+      }
+    }
     run.passes.push_back(pass);
+    if (!run.stopped.empty()) break;
   }
   return run;
 }
@@ -132,11 +180,23 @@ std::string groove_passes_markdown(const GroovePassRun& run) {
   std::ostringstream o;
   o << "Multi-pass: " << run.cell << ", " << run.conditions
     << ". Medians over the accepted profiles; true values from the cell's analytic truth.\n\n"
-    << "| beads laid | " << kPassColumns << " | next bead: error across / in depth (mm) |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const GroovePass& p : run.passes) o << "| " << p.laid << " | " << pass_cells(p) << "\n";
+    << "| beads laid | " << kPassColumns
+    << " | next bead: error across / in depth (mm) | next bead laid / model's centre, across (mm) |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const GroovePass& p : run.passes) {
+    o << "| " << p.laid << " | " << pass_cells(p) << " ";
+    if (p.bead_laid) {
+      char off[32];
+      std::snprintf(off, sizeof off, "%+.3f", std::abs(p.laid_y - p.model_y) < 5e-4 ? 0.0 : p.laid_y - p.model_y);
+      o << fmt(p.laid_y, 3) << " / " << fmt(p.model_y, 3) << " (" << off << ")";
+    } else {
+      o << "none laid";
+    }
+    o << " |\n";
+  }
   for (const GroovePass& p : run.passes)
     if (p.ok < p.profiles) o << "\nafter " << p.laid << " beads, " << p.first_reason;
+  if (!run.stopped.empty()) o << "\n\nSTOPPED: " << run.stopped;
   return o.str();
 }
 
@@ -172,8 +232,18 @@ trackio::Json groove_passes_json(const GroovePassRun& run) {
                                    {"wall_angle_b_true_deg", num(p.wall_b_true)},
                                    {"next_bead_error_y_mm", num(p.next_dy)},
                                    {"next_bead_error_z_mm", num(p.next_dz)},
-                                   {"first_reason", p.first_reason}});
-  return trackio::Json{{"cell", run.cell}, {"conditions", run.conditions}, {"passes", std::move(passes)}};
+                                   {"first_reason", p.first_reason},
+                                   {"next_bead_model_y_mm", num(p.model_y)},
+                                   {"next_bead_reported_y_mm", num(p.reported_y)},
+                                   {"next_bead_laid", p.bead_laid},
+                                   {"next_bead_laid_y_mm", num(p.laid_y)},
+                                   {"next_bead_offset_mm", num(p.laid_y - p.model_y)},
+                                   {"toe_a_yz_true", {num(p.toe_a.x()), num(p.toe_a.y())}},
+                                   {"toe_b_yz_true", {num(p.toe_b.x()), num(p.toe_b.y())}},
+                                   {"top_a_yz_true", {num(p.top_a.x()), num(p.top_a.y())}},
+                                   {"top_b_yz_true", {num(p.top_b.x()), num(p.top_b.y())}}});
+  return trackio::Json{{"cell", run.cell},       {"conditions", run.conditions}, {"fill", std::string(to_string(run.fill))},
+                       {"passes", std::move(passes)}, {"stopped", run.stopped}};
 }
 
 }  // namespace vts

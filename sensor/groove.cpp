@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -103,10 +105,144 @@ struct Shape {
   double level = 0.0;  // h_N = passes * layer_mm
   double crown = 0.0;
   Wall a, b;
+  // Beads laid off-centre (JointParams::bead_offsets_mm not all 0): the
+  // fill's chord is the line z = fill_c + fill_slope y (joint frame) instead
+  // of z = level.
+  bool tilted = false;
+  double fill_c = 0.0, fill_slope = 0.0;
 
   Vec2 on_a(const Vec2& uv) const { return {-0.5 * g - uv.x(), uv.y()}; }
   Vec2 on_b(const Vec2& uv) const { return {0.5 * g + uv.x(), m + uv.y()}; }
 };
+
+// Where the line z = c + k y meets a wall (side a or b): bisection on the
+// height v above its root edge, u(v) the wall's (true or polyline) offset.
+template <class U, class Map>
+Vec2 wall_meets_line(double c, double k, double v_max, U u_of, Map on_side) {
+  auto below = [&](double v) {
+    const Vec2 q = on_side(Vec2(u_of(v), v));
+    return q.y() < c + k * q.x();
+  };
+  double lo = 0.0, hi = v_max;
+  if (!below(lo)) return on_side(Vec2(u_of(lo), lo));
+  if (below(hi)) return on_side(Vec2(u_of(hi), hi));
+  for (int i = 0; i < 100 && hi - lo > 1e-12; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (below(mid) ? lo : hi) = mid;
+  }
+  const double v = 0.5 * (lo + hi);
+  return on_side(Vec2(u_of(v), v));
+}
+
+// The groove's open section from the root edges up to the plate tops
+// (walls by their polylines), counter-clockwise: top a, wall a down, root
+// a, root b, wall b up, top b.
+std::vector<Vec2> open_section(const Shape& s) {
+  std::vector<Vec2> poly;
+  const std::vector<Vec2> wa = s.a.polyline(), wb = s.b.polyline();
+  for (auto it = wa.rbegin(); it != wa.rend(); ++it) poly.push_back(s.on_a(*it));
+  for (const Vec2& q : wb) poly.push_back(s.on_b(q));
+  return poly;
+}
+
+// The area of `poly` below the line z = c + k y (Sutherland-Hodgman against
+// the half-plane, then the shoelace).
+double area_below(const std::vector<Vec2>& poly, double c, double k) {
+  auto f = [&](const Vec2& q) { return c + k * q.x() - q.y(); };  // >= 0: kept
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
+    const double fp = f(p), fq = f(q);
+    if (fp >= 0.0) out.push_back(p);
+    if ((fp >= 0.0) != (fq >= 0.0)) out.push_back(p + (q - p) * (fp / (fp - fq)));
+  }
+  return out.size() < 3 ? 0.0 : 0.5 * std::abs(shoelace2(out));
+}
+
+bool any_offset(const JointParams& p) {
+  const std::size_t n = std::min<std::size_t>(p.bead_offsets_mm.size(), std::max(p.passes, 0));
+  for (std::size_t i = 0; i < n; ++i)
+    if (p.bead_offsets_mm[i] != 0.0) return true;
+  return false;
+}
+
+// Beads laid off-centre (docs/CELLS.md "Beads laid off-centre"): bead k
+// deposits the area its flat layer would, between z = (k-1) t and k t
+// (t = layer_mm), under a straight chord z = c + s y. Laid delta_k across
+// from the middle between the toes of the fill under it, the chord's slope
+// is 12 t delta_k / w^2 (w the flat layer's top width: a w x t rectangle
+// whose top slopes by s has its centroid s w^2 / (12 t) off its middle), and
+// c the level at which the area under the chord inside the walls has grown
+// by the deposit. A bead cannot push its top under the fill it lies on: where
+// that slope would take the chord below the old one at a wall, the slope is
+// brought back towards the old one until the chord just touches it there
+// (the layer thins to nothing at that wall).
+constexpr double kMaxBeadTiltDeg = 15.0;
+
+void lay_beads(Shape& s, const JointParams& p) {
+  const std::vector<Vec2> open = open_section(s);
+  double c = 0.0, k = 0.0, area = area_below(open, 0.0, 0.0);
+  auto ua = [&](double v) { return s.a.u_at(v); };
+  auto ub = [&](double v) { return s.b.u_at(v); };
+  auto on_a = [&](const Vec2& uv) { return s.on_a(uv); };
+  auto on_b = [&](const Vec2& uv) { return s.on_b(uv); };
+  for (int i = 0; i < s.passes; ++i) {
+    const double h1 = (i + 1) * p.layer_mm;
+    const double delta = i < static_cast<int>(p.bead_offsets_mm.size()) ? p.bead_offsets_mm[i] : 0.0;
+    const double w = (s.on_b({s.b.u_at(h1 - s.m), h1 - s.m}) - s.on_a({s.a.u_at(h1), h1})).x();
+    const double target = area + area_below(open, h1, 0.0) - area_below(open, h1 - p.layer_mm, 0.0);
+    // The old chord's toes: the new one must not pass under either.
+    const Vec2 old_a = wall_meets_line(c, k, s.D, ua, on_a), old_b = wall_meets_line(c, k, s.D, ub, on_b);
+    auto level_for = [&](double kk) {
+      double lo = -s.D - std::abs(kk) * s.W - std::abs(s.m) - s.g, hi = s.D + std::abs(kk) * s.W + std::abs(s.m) + s.g;
+      for (int it = 0; it < 200 && hi - lo > 1e-13; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (area_below(open, mid, kk) < target ? lo : hi) = mid;
+      }
+      return 0.5 * (lo + hi);
+    };
+    auto fits = [&](double kk, double cc) {
+      return cc + kk * old_a.x() >= old_a.y() - 1e-9 && cc + kk * old_b.x() >= old_b.y() - 1e-9;
+    };
+    // A pool in the flat position holds no steeper top than kMaxBeadTiltDeg:
+    // a narrow layer (the root's) wets both walls and levels, its deposit's
+    // centroid moving less than the torch.
+    const double k_max = std::tan(kMaxBeadTiltDeg * std::numbers::pi / 180.0);
+    const double k_want =
+        std::isfinite(delta) ? std::clamp(12.0 * p.layer_mm * delta / (w * w), -k_max, k_max) : 0.0;
+    double k_new = k_want, c_new = level_for(k_want);
+    if (!fits(k_new, c_new)) {
+      double lo = 0.0, hi = 1.0;  // of the way from the old slope to the one wanted
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi), kk = k + mid * (k_want - k);
+        (fits(kk, level_for(kk)) ? lo : hi) = mid;
+      }
+      k_new = k + lo * (k_want - k);
+      c_new = level_for(k_new);
+    }
+    c = c_new, k = k_new;
+    area = area_below(open, c, k);
+  }
+  s.tilted = true;
+  s.fill_c = c;
+  s.fill_slope = k;
+}
+
+// The toes of the fill: flat, where z = level meets the walls (u by the
+// walls' polylines when `polyline`, the mesh's, else the true walls);
+// tilted, where the fill's chord does.
+std::pair<Vec2, Vec2> fill_toes(const Shape& s, bool polyline) {
+  const std::vector<Vec2> wa = s.a.polyline(), wb = s.b.polyline();
+  if (!s.tilted) {
+    if (polyline)
+      return {s.on_a({polyline_u(wa, s.level), s.level}), s.on_b({polyline_u(wb, s.level - s.m), s.level - s.m})};
+    return {s.on_a({s.a.u_at(s.level), s.level}), s.on_b({s.b.u_at(s.level - s.m), s.level - s.m})};
+  }
+  auto ua = [&](double v) { return polyline ? polyline_u(wa, v) : s.a.u_at(v); };
+  auto ub = [&](double v) { return polyline ? polyline_u(wb, v) : s.b.u_at(v); };
+  return {wall_meets_line(s.fill_c, s.fill_slope, s.D, ua, [&](const Vec2& uv) { return s.on_a(uv); }),
+          wall_meets_line(s.fill_c, s.fill_slope, s.D, ub, [&](const Vec2& uv) { return s.on_b(uv); })};
+}
 
 Shape shape_of(JointType type, const JointParams& p) {
   Shape s;
@@ -125,6 +261,7 @@ Shape shape_of(JointType type, const JointParams& p) {
     case JointType::JGroove: s.a = {0.0, 0.0, s.D}; s.b = {full, r, s.D}; break;
     default: s.a = {half, 0.0, s.D}; s.b = {half, 0.0, s.D}; break;  // v-groove
   }
+  if (any_offset(p)) lay_beads(s, p);
   return s;
 }
 
@@ -138,7 +275,19 @@ struct Cap {
   double rho = 0.0;              // its radius
   double theta = 0.0;            // central angle
 
-  Cap(const Vec2& toe_a, const Vec2& toe_b, double c) : a(toe_a), b(toe_b), crown(c) {
+  // `tilted`: the toes need not be level (beads laid off-centre); the
+  // sagitta is then square to the chord.
+  Cap(const Vec2& toe_a, const Vec2& toe_b, double c, bool tilted) : a(toe_a), b(toe_b), crown(c) {
+    if (tilted) {
+      const Vec2 d = b - a;
+      half = 0.5 * d.norm();
+      if (crown == 0.0) return;
+      const Vec2 n = Vec2(-d.y(), d.x()) / d.norm();  // up, for a chord from a to b
+      rho = (half * half + crown * crown) / (2.0 * std::abs(crown));
+      centre = 0.5 * (a + b) + (crown - std::copysign(rho, crown)) * n;
+      theta = 4.0 * std::atan(std::abs(crown) / half);
+      return;
+    }
     half = 0.5 * (b.x() - a.x());
     if (crown == 0.0) return;
     rho = (half * half + crown * crown) / (2.0 * std::abs(crown));
@@ -147,6 +296,13 @@ struct Cap {
   }
   bool flat() const { return crown == 0.0; }
   Vec2 middle() const { return {0.5 * (a.x() + b.x()), a.y() + crown}; }
+  // The cap at y (between the toes): on the chord when flat, else on the
+  // circle (its upper half for a convex cap, the lower for a concave one).
+  Vec2 at(double y) const {
+    if (flat()) return {y, a.y() + (b.y() - a.y()) * (y - a.x()) / (b.x() - a.x())};
+    const double dy = y - centre.x();
+    return {y, centre.y() + std::copysign(std::sqrt(std::max(0.0, rho * rho - dy * dy)), crown)};
+  }
   // The cap's points, toe a to toe b, chords within kArcChordErrorMm.
   std::vector<Vec2> polyline() const {
     if (flat()) return {a, b};
@@ -209,9 +365,8 @@ void add_side(const Shape& s, const Wall& wall, Map to_joint, double length_mm, 
 // convex quadrilateral (a triangle at a toe).
 void add_fill(const Shape& s, double length_mm, Workpiece& w) {
   const std::vector<Vec2> wa = s.a.polyline(), wb = s.b.polyline();
-  const Vec2 toe_a = s.on_a({polyline_u(wa, s.level), s.level});
-  const Vec2 toe_b = s.on_b({polyline_u(wb, s.level - s.m), s.level - s.m});
-  const std::vector<Vec2> cap = Cap(toe_a, toe_b, s.crown).polyline();
+  const auto [toe_a, toe_b] = fill_toes(s, true);
+  const std::vector<Vec2> cap = Cap(toe_a, toe_b, s.crown, s.tilted).polyline();
   // The walls in the joint frame by rising y.
   std::vector<Vec2> floor_a, floor_b;
   for (auto it = wa.rbegin(); it != wa.rend(); ++it) floor_a.push_back(s.on_a(*it));
@@ -291,6 +446,22 @@ std::string validate(JointType type, const JointParams& p) {
           "must exceed the groove wall's width across the seam (" + message_number(wall->top().x()) + " mm)");
   }
   if (p.passes == 0) return {};
+  for (std::size_t i = 0; i < p.bead_offsets_mm.size(); ++i)
+    if (!std::isfinite(p.bead_offsets_mm[i]))
+      return field_error("bead_offsets_mm[" + std::to_string(i) + "]", p.bead_offsets_mm[i], "must be a finite number");
+  if (s.tilted) {
+    const auto [ta, tb] = fill_toes(s, false);
+    if (ta.y() + std::max(s.crown, 0.0) >= D || tb.y() + std::max(s.crown, 0.0) >= D + s.m)
+      return field_error("passes", p.passes,
+                         "the fill, tilted by beads laid off-centre, reaches a plate top (its toes at z = " +
+                             message_number(ta.y()) + " and " + message_number(tb.y()) + " mm)");
+    // (A bead pushed against one wall may leave the other toe exactly on a
+    // root edge, its layer thinned to nothing there: that edge is covered.)
+    if (ta.y() < -1e-6 || tb.y() < s.m - 1e-6)
+      return field_error("passes", p.passes,
+                         "the fill, tilted by beads laid off-centre, leaves a root edge bare (its toes at z = " +
+                             message_number(ta.y()) + " and " + message_number(tb.y()) + " mm)");
+  }
   const double top = std::min(D, D + s.m);
   if (s.level + std::max(s.crown, 0.0) >= top)
     return field_error("passes", p.passes,
@@ -301,15 +472,14 @@ std::string validate(JointType type, const JointParams& p) {
     return field_error("passes", p.passes,
                        "the fill level (passes x layer_mm = " + message_number(s.level) +
                            " mm) must be above side b's root edge (mismatch_mm = " + message_number(s.m) + ")");
-  const Vec2 toe_a = s.on_a({s.a.u_at(s.level), s.level});
-  const Vec2 toe_b = s.on_b({s.b.u_at(s.level - s.m), s.level - s.m});
-  const double half = 0.5 * (toe_b.x() - toe_a.x());
+  const auto [toe_a, toe_b] = fill_toes(s, false);
+  const double half = s.tilted ? 0.5 * (toe_b - toe_a).norm() : 0.5 * (toe_b.x() - toe_a.x());
   if (std::abs(s.crown) >= half)
     return field_error("crown_mm", s.crown,
                        "must be smaller in size than half the cap's width (" + message_number(half) + " mm)");
   if (s.crown < 0.0) {
     // A concave cap must not dip below the groove's surface anywhere.
-    const Cap cap(toe_a, toe_b, s.crown);
+    const Cap cap(toe_a, toe_b, s.crown, s.tilted);
     const std::vector<Vec2> wa = s.a.polyline(), wb = s.b.polyline();
     std::vector<Vec2> floor_a, floor_b;
     for (auto it = wa.rbegin(); it != wa.rend(); ++it) floor_a.push_back(s.on_a(*it));
@@ -389,10 +559,9 @@ void set_truth(JointType type, const JointParams& p, Workpiece& w, bool keep_dep
     }
     t.track_yz = Vec2(y, z);
   } else {
-    const double va = s.level, vb = s.level - s.m;
-    t.toe_a_yz = s.on_a({s.a.u_at(va), va});
-    t.toe_b_yz = s.on_b({s.b.u_at(vb), vb});
-    const Cap cap(t.toe_a_yz, t.toe_b_yz, s.crown);
+    std::tie(t.toe_a_yz, t.toe_b_yz) = fill_toes(s, false);
+    const double va = s.tilted ? t.toe_a_yz.y() : s.level, vb = s.tilted ? t.toe_b_yz.y() - s.m : s.level - s.m;
+    const Cap cap(t.toe_a_yz, t.toe_b_yz, s.crown, s.tilted);
     if (s.a.curved() && va < s.a.tangent().y()) {
       outline.push_back(tan_a);
       segments += segment_area(s.a.radius, s.a.arc_span() - s.a.phi_at(va));
@@ -411,7 +580,7 @@ void set_truth(JointType type, const JointParams& p, Workpiece& w, bool keep_dep
       const double ta = angle(cap.a), tb = angle(cap.b);
       bottom.push_back({cap.a, cap.b, cap.centre, cap.rho, std::min(ta, tb), std::max(ta, tb)});
     }
-    t.track_yz = cap.middle();
+    t.track_yz = s.tilted ? cap.at(0.5 * (cap.a.x() + cap.b.x())) : cap.middle();
   }
   outline.push_back(top_b);
 

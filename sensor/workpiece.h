@@ -59,6 +59,12 @@ struct JointParams {
   double segment_mm = 10.0;     // mesh: plates are cut every segment_mm along x
   double cell_mm = 0.0;         // mesh: 0 = only the cuts along x; > 0 = every face
                                 // is also a grid of about cell_mm x cell_mm quads
+  // Grooves: where each bead was laid, across the seam (+y, mm), from the
+  // middle between the toes of the fill it was laid on; one per pass, missing
+  // ones 0. All 0 (or empty): the flat fill of passes x layer_mm, as before;
+  // otherwise each bead still deposits its flat layer's area but its top
+  // tilts towards the side it was laid on (sensor/groove.cpp, docs/CELLS.md).
+  std::vector<double> bead_offsets_mm;
 };
 
 JointParams default_params(JointType type);

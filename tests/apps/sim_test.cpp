@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
@@ -166,4 +167,30 @@ TEST_CASE("vts sim: the default raster run meets the targets", "[cli][sim][gl]")
   const Json j = Json::parse(r.out);
   CHECK(j.at("source") == "raster");
   check_targets(j);
+}
+
+TEST_CASE("vts sim --cell: the adaptive fill by default, the bias, the model's fill and a stop", "[cli][sim]") {
+  TempDir dir;
+  // The laser line's +y is the part's -y in vgroove-thick: a +0.5 mm bias
+  // lays the beads 0.5 mm towards side a (tests/pipeline/groove_passes_test).
+  Result r = run_sim_cli(dir, "--cell vgroove-thick --source reference --passes 2 --profiles 3 --fill-bias 0.5 --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  Json j = Json::parse(r.out);
+  CHECK(j["fill"] == "adaptive");
+  CHECK(j["stopped"] == "");
+  REQUIRE(j["passes"].size() == 3);
+  for (int k = 0; k < 2; ++k) {
+    CHECK(j["passes"][k]["next_bead_laid"].get<bool>());
+    CHECK(std::abs(j["passes"][k]["next_bead_offset_mm"].get<double>() + 0.5) < 0.3);
+  }
+  CHECK_FALSE(j["passes"][2]["next_bead_laid"].get<bool>());
+  r = run_sim_cli(dir, "--cell vgroove-thick --source reference --passes 1 --profiles 2 --fill model");
+  CHECK(r.code == 0);
+  CHECK(r.out.find("beads where the cell's model centres them") != std::string::npos);
+  CHECK(r.out.find("| 0.000 / 0.000 (+0.000) |") != std::string::npos);
+  // The empty thick bevel is not read: the adaptive fill stops, exit 1.
+  r = run_sim_cli(dir, "--cell bevel-thick --source reference --profiles 2");
+  CHECK(r.code == 1);
+  CHECK(r.out.find("STOPPED: after 0 beads no profile was accepted") != std::string::npos);
 }
