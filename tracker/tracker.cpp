@@ -2833,10 +2833,12 @@ class Matcher {
         const Vec2& t = is_a ? b2 : b4;
         int run_end = -1;
         std::optional<LineFit> run_fit;
+        PointSums run_sums;  // the run's sums, one point added per step (linear, not quadratic)
         for (int k = 0; k <= bot_last - bot_first; ++k) {
           const int lo = is_a ? bot_first : bot_last - k, hi = is_a ? bot_first + k : bot_last;
+          run_sums = s_.with_point(run_sums, is_a ? hi : lo);
           if (k + 1 < gp.min_wall_points) continue;
-          const auto f = s_.fit(lo, hi);
+          const auto f = s_.fit(run_sums);
           if (!f) continue;
           if (f->rms_mm > 2.0 * tol_) break;
           if (f->rms_mm <= tol_) run_end = is_a ? hi : lo, run_fit = f;
