@@ -146,10 +146,25 @@ void App::lay_bead() {
     return;
   }
   Workpiece& w = cell_.workpieces.front();
+  // The adaptive fill (docs/SIM.md "Multi-pass"): the bead goes where the
+  // sensor reads the next bead's place in the latest profile, taken into
+  // the part frame through the pose it was scanned at; with no accepted
+  // reading there is nothing to place it by.
+  if (!have_profile_ || track_.status != tracker::TrackStatus::Ok || !track_.track_point) {
+    status_ = "no bead laid: the latest profile gives no accepted reading of the groove (" +
+              (have_profile_ ? track_.reason : std::string("no profile yet")) +
+              "); the bead goes where the sensor says";
+    return;
+  }
+  const Eigen::Vector3d q = w.world_from_joint.inverse() * last_.world_from_sensor *
+                            Eigen::Vector3d(0.0, track_.track_point->x(), track_.track_point->y());
+  const double offset = q.y() - w.truth.track_yz.x();
   JointParams p = w.params;
+  p.bead_offsets_mm.resize(static_cast<std::size_t>(std::max(p.passes, 0)), 0.0);
+  p.bead_offsets_mm.push_back(offset);
   ++p.passes;
   if (const std::string why = validate(w.type, p); !why.empty()) {
-    status_ = "the groove is full: " + why;
+    status_ = "no bead laid where the sensor said (" + std::to_string(offset) + " mm off the middle): " + why;
     return;
   }
   w = build_workpiece(w.type, p, w.world_from_joint);
@@ -160,8 +175,9 @@ void App::lay_bead() {
   configure_worker();
   upload_meshes();
   char note[160];
-  std::snprintf(note, sizeof note, "bead %d laid: %.3g mm deep and %.4g mm2 left to fill (true)", p.passes,
-                w.truth.depth_mm, w.truth.area_mm2);
+  std::snprintf(note, sizeof note, "bead %d laid where the sensor said, %+.2f mm off the middle: %.3g mm deep and "
+                "%.4g mm2 left to fill (true)",
+                p.passes, offset, w.truth.depth_mm, w.truth.area_mm2);
   status_ = note;
 }
 

@@ -30,7 +30,7 @@ constexpr KeyInfo kKeys[] = {
     {Key::FollowCamera, "v", "V", "camera follows the torch", false},
     {Key::ResetTorch, "backspace", "Backspace", "torch back to the cell's start pose", false},
     {Key::ResetView, "home", "Home", "reset the camera", false},
-    {Key::LayBead, "b", "B", "groove cells: lay one more bead (multi-pass; the sensor sees the new fill)", false},
+    {Key::LayBead, "b", "B", "groove cells: lay one more bead where the sensor says (adaptive fill; the sensor sees the new fill)", false},
     {Key::CameraImage, "i", "I", "camera image on/off: profiles read from the rendered stripe image, shown under the view", false},
     {Key::Quit, "escape", "Esc", "quit", false},
 };

@@ -3,6 +3,7 @@
 // scene handed to the renderer are exercised headless. Tagged [gl].
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -95,6 +96,37 @@ TEST_CASE("viewer app: the default cell is tracked and accepted", "[viewer][gl]"
   // Table 2 B: the root lies on the optical axis, 103 mm away.
   CHECK(app.last_track()->track_point->x() == Approx(0.0).margin(0.2));
   CHECK(app.last_track()->track_point->y() == Approx(103.0).margin(0.2));
+}
+
+TEST_CASE("viewer app: B lays a bead where the sensor said", "[viewer][gl]") {
+  // vgroove-thick as the viewer scans it (raster source, the cell's error
+  // model): the sensor's next-bead point is the model's centre within the
+  // 0.5 mm the multi-pass sim finds with noise (docs/SIM.md), so the bead
+  // lands there, and the fill rises by about one layer (4 mm: the cell's
+  // truth before and after, docs/CELLS.md).
+  Fixture f;
+  AppOptions options;
+  App app(options, f.renderer);
+  app.load_builtin("vgroove-thick");
+  // Before any profile: nothing to place the bead by.
+  const int passes0 = app.cell().workpieces.front().params.passes;  // the cell's beads, centred
+  const double depth0 = app.cell().workpieces.front().truth.depth_mm;
+  app.lay_bead();
+  CHECK(app.status().find("no bead laid") == 0);
+  CHECK(app.cell().workpieces.front().params.passes == passes0);
+  run_frames(app, 3);
+  REQUIRE(app.last_track());
+  REQUIRE(app.last_track()->status == vts::tracker::TrackStatus::Ok);
+  app.lay_bead();
+  INFO(app.status());
+  const auto& w = app.cell().workpieces.front();
+  REQUIRE(w.params.passes == passes0 + 1);
+  REQUIRE(w.params.bead_offsets_mm.size() == static_cast<std::size_t>(passes0 + 1));
+  for (int k = 0; k < passes0; ++k) CHECK(w.params.bead_offsets_mm[k] == 0.0);
+  CHECK(w.params.bead_offsets_mm.back() != 0.0);  // where the sensor said, not the model's exact centre
+  CHECK(std::abs(w.params.bead_offsets_mm.back()) < 0.5);
+  CHECK(w.truth.depth_mm == Approx(depth0 - 4.0).margin(0.5));
+  CHECK(app.status().find("where the sensor said") != std::string::npos);
 }
 
 TEST_CASE("viewer app: the torch moves and the sensor scans at its rate", "[viewer][gl]") {
