@@ -646,28 +646,55 @@ class Matcher {
       return sd > 2.0 * tol_ ? 2 : 0;
     };
     // Runs of points off the line (in front, or off by less than the
-    // margin: noise over a cap's feet) between two points on it; a bump
-    // when more than max_cluster of them stand in front.
+    // margin: noise over a cap's feet) between two points on it, none of
+    // the joint's own columns or a gap of more than max_gap columns among
+    // them; a bump when more than max_cluster of them stand in front. Such
+    // a run is more than max_cluster points long, so looking at every
+    // (max_cluster + 1)-th point finds one of its points: only around a
+    // point off the line are the run and its ends looked for (the first
+    // strongest run in column order, as a scan of every point finds it).
+    auto joint = [&](int i) { return s_.cols[i] >= ca && s_.cols[i] <= cb; };
+    auto gap_before = [&](int i) { return i > 0 && s_.cols[i] - s_.cols[i - 1] > max_gap; };
+    const int stride = max_cluster + 1;
     double best = 0.0;
-    int last_on = -1, fronts = 0, run_first = -1, run_last = -1;
-    double sum = 0.0, top = 0.0;
-    auto reset = [&] { fronts = 0, sum = 0.0, top = 0.0, run_first = run_last = -1; };
-    for (int i = 0; i < n; ++i) {
-      const int col = s_.cols[i];
-      if ((col >= ca && col <= cb) || (i > 0 && col - s_.cols[i - 1] > max_gap)) {  // the joint's own, a gap
-        last_on = -1, reset();
-        if (col >= ca && col <= cb) continue;
-      }
+    for (int i = 0; i < n;) {
       double f = 0.0;
-      const int st = state(i, f);
-      if (st == 1) {
-        if (last_on >= 0 && fronts > max_cluster && sum > best)
-          best = sum, first_col = s_.cols[run_first], last_col = s_.cols[run_last], height_mm = top;
-        last_on = i, reset();
-      } else if (st == 2) {
-        if (run_first < 0) run_first = i;
-        run_last = i, ++fronts, sum += cost(std::abs(f)), top = std::max(top, f);
+      if (joint(i) || state(i, f) == 1) {
+        i += stride;
+        continue;
       }
+      // The point on the line before the run, none if the run starts at a
+      // gap, the joint or the profile's start.
+      int left = -1;
+      for (int k = i;;) {
+        if (gap_before(k) || k == 0) break;
+        --k;
+        if (joint(k)) break;
+        if (state(k, f) == 1) {
+          left = k;
+          break;
+        }
+      }
+      // The run to the point on the line after it (or to where it ends
+      // without one): its points in front.
+      int fronts = 0, run_first = -1, run_last = -1, right = -1, k = (left >= 0 ? left : i) + 1;
+      double sum = 0.0, top = 0.0;
+      for (; k < n && !joint(k) && !gap_before(k); ++k) {
+        const int st = state(k, f);
+        if (st == 1) {
+          right = k;
+          break;
+        }
+        if (st == 2) {
+          if (run_first < 0) run_first = k;
+          run_last = k, ++fronts, sum += cost(std::abs(f)), top = std::max(top, f);
+        }
+      }
+      if (left >= 0 && right >= 0 && fronts > max_cluster && sum > best)
+        best = sum, first_col = s_.cols[run_first], last_col = s_.cols[run_last], height_mm = top;
+      // Next: from the point on the line that ended it (the next run's
+      // start), or where the run was cut.
+      i = right >= 0 ? right + 1 : std::max(k, i + 1);
     }
     return best;
   }
