@@ -97,7 +97,6 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
     pass.wall_a_true = a_first ? t.wall_angle_a_deg : t.wall_angle_b_deg;
     pass.wall_b_true = a_first ? t.wall_angle_b_deg : t.wall_angle_a_deg;
     std::vector<double> depth, area, width, wa, wb, dy, dz, across;
-    const Pose joint_from_world = w.world_from_joint.inverse();
     tk::Tracker tracker(params);
     tk::TrackResult r;
     CallbackSink sink([&](const ScanBatch& batch) {
@@ -116,9 +115,9 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
         dy.push_back(r.track_point->x() - b3.x()), dz.push_back(r.track_point->y() - b3.y());
         // The reported point (biased as the sensor's mount would) into the
         // part frame through the pose the profile was taken at.
-        const Vec3 q = joint_from_world * scan.cell.path.pose_at(prof.index) *
-                       Vec3(0.0, r.track_point->x() + spec.bias_mm, r.track_point->y());
-        across.push_back(q.y());
+        across.push_back(
+            w.in_joint_frame(scan.cell.path.pose_at(prof.index), Vec2(r.track_point->x() + spec.bias_mm, r.track_point->y()))
+                .x());
       }
     });
     run_scan_job(scan, sink);
@@ -137,10 +136,7 @@ GroovePassRun run_groove_passes(const GroovePassSpec& spec) {
                       "): bead " + std::to_string(laid + 1) +
                       " cannot be placed; the run stops there (a cell would stop and ask the operator)";
       } else {
-        JointParams next = base.params;
-        next.passes = laid + 1;
-        next.bead_offsets_mm = offsets;
-        next.bead_offsets_mm.push_back(pass.reported_y - pass.model_y);
+        JointParams next = with_bead_laid(p, pass.reported_y - pass.model_y);  // p: this scan's beads
         if (const std::string e = vts::validate(base.type, next); !e.empty()) {
           run.stopped = "bead " + std::to_string(laid + 1) + " where the sensor said (" + fmt(pass.reported_y, 3) +
                         " mm across, " + fmt(pass.reported_y - pass.model_y, 3) +

@@ -472,6 +472,18 @@ Vec2 Workpiece::in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint
   return Vec2(s.y(), s.z());
 }
 
+Vec2 Workpiece::in_joint_frame(const Pose& world_from_sensor, const Vec2& sensor_yz) const {
+  const Vec3 q = world_from_joint.inverse() * world_from_sensor * Vec3(0.0, sensor_yz.x(), sensor_yz.y());
+  return Vec2(q.y(), q.z());
+}
+
+JointParams with_bead_laid(JointParams p, double offset_mm) {
+  p.bead_offsets_mm.resize(static_cast<std::size_t>(std::max(p.passes, 0)), 0.0);
+  p.bead_offsets_mm.push_back(offset_mm);
+  ++p.passes;
+  return p;
+}
+
 std::vector<std::pair<Vec3, double>> Workpiece::face_planes() const {
   std::vector<std::pair<Vec3, double>> planes;
   const Eigen::Matrix3d& r = world_from_joint.linear();

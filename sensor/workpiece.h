@@ -69,6 +69,11 @@ struct JointParams {
 
 JointParams default_params(JointType type);
 
+// `p` with one more bead laid, offset_mm across the seam from the middle of
+// the fill under it (the adaptive fill, docs/SIM.md "Multi-pass"): passes
+// + 1, bead_offsets_mm the earlier beads' (missing ones 0) and this one's.
+JointParams with_bead_laid(JointParams p, double offset_mm);
+
 // The JointParams fields that are numbers, by their key in scene files
 // (docs/SCENE_FORMAT.md) and dataset specs; `passes` is the one integer.
 struct JointParamKey {
@@ -166,6 +171,10 @@ struct Workpiece {
   // leaning along the seam or turned about its optical axis); a plane
   // parallel to the seam takes the point at the sensor's own seam position.
   Vec2 in_sensor_frame(const Pose& world_from_sensor, const Vec2& joint_yz) const;
+  // A profile point (sensor frame y, z, in the laser plane) of a sensor at
+  // world_from_sensor, in the joint frame (y across the seam, z): where a
+  // reading lies on the cross-section.
+  Vec2 in_joint_frame(const Pose& world_from_sensor, const Vec2& sensor_yz) const;
   // Plane (unit outward normal n, offset d: n.p = d) of every flat face of
   // every plate, world frame; from the section polygons, not the mesh. None
   // for a mesh workpiece.

@@ -613,12 +613,13 @@ class Matcher {
     return best;
   }
 
-  // A bump beyond reading c's joint: a maximal run of more kept points than
-  // a reflection cluster (2 max_cluster_points) outside its plates' facing
-  // ends, each more than 2 surface tolerances and noise_k sigmas in front
-  // of (towards the sensor from) the line that explains it under c, with a
-  // point on that line on each side of it within max_merge_gap_points
-  // columns: a cap standing on the surface (a tack weld, a bead), under
+  // A bump beyond reading c's joint: a run of kept points outside its
+  // plates' facing ends off the line that explains them under c, between
+  // two points on it, with more of them than a reflection cluster (2
+  // max_cluster_points) more than 2 surface tolerances and noise_k sigmas
+  // in front of that line (towards the sensor), no gap of more than
+  // max_merge_gap_points columns among them: a cap standing on the
+  // surface (a tack weld, a bead), under
   // which the joint may be. A step to a third plate does not come back to
   // the line (unexplained_beyond weighs it); a reflection cluster is
   // shorter. Returns the strongest one's cost under c (as cost_under
@@ -3959,8 +3960,10 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     // at the calibration's temperature; against "not in view" as they are.
     const double tau = cp.temperature > 0.0 ? cp.temperature : 1.0;
     double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
+    // A rival of that strength against the reading, at the temperature.
+    auto odds = [&](double strength) { return std::exp(std::min((strength - e) / tau, 700.0)); };
     m.for_each_rival(best, [&](const Vec2& track, double strength) {
-      rivals += std::exp(std::min((strength - e) / tau, 700.0));
+      rivals += odds(strength);
       if (!out.rival_track_point || strength > out.rival_strength) {
         out.rival_track_point = track;
         out.rival_strength = strength;
@@ -3971,12 +3974,12 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     // as strong as its points' cost.
     int u_first = 0, u_last = 0;
     const double beyond = m.unexplained_beyond(best, u_first, u_last);
-    const double step_rival = beyond > 0.0 ? std::exp(std::min((beyond - e) / tau, 700.0)) : 0.0;
+    const double step_rival = beyond > 0.0 ? odds(beyond) : 0.0;
     // So is a bump beyond it (a tack weld or a bead on the surface).
     int b_first = 0, b_last = 0;
     double b_height = 0.0;
     const double bump = cp.bump_rival ? m.bump_beyond(best, b_first, b_last, b_height) : 0.0;
-    const double bump_rival = bump > 0.0 ? std::exp(std::min((bump - e) / tau, 700.0)) : 0.0;
+    const double bump_rival = bump > 0.0 ? odds(bump) : 0.0;
     const double found = 1.0 / (1.0 + against + rivals + step_rival + bump_rival);
     // ...and that it is where it is read (docs/JOINTS.md "Localization").
     double off = 0.0;

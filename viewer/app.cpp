@@ -156,13 +156,8 @@ void App::lay_bead() {
               "); the bead goes where the sensor says";
     return;
   }
-  const Eigen::Vector3d q = w.world_from_joint.inverse() * last_.world_from_sensor *
-                            Eigen::Vector3d(0.0, track_.track_point->x(), track_.track_point->y());
-  const double offset = q.y() - w.truth.track_yz.x();
-  JointParams p = w.params;
-  p.bead_offsets_mm.resize(static_cast<std::size_t>(std::max(p.passes, 0)), 0.0);
-  p.bead_offsets_mm.push_back(offset);
-  ++p.passes;
+  const double offset = w.in_joint_frame(last_.world_from_sensor, *track_.track_point).x() - w.truth.track_yz.x();
+  const JointParams p = with_bead_laid(w.params, offset);
   if (const std::string why = validate(w.type, p); !why.empty()) {
     status_ = "no bead laid where the sensor said (" + std::to_string(offset) + " mm off the middle): " + why;
     return;
