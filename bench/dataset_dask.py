@@ -3,7 +3,7 @@
 processes (1 thread each) on this machine, the same spec, fresh output
 directories; and what a 100-million-profile dataset would cost.
 
-    PYTHONPATH=build/python /usr/bin/python3 bench/dataset_dask.py [--shards 8] [--scenes 4] [--profiles 128]
+    PYTHONPATH=build/python /usr/bin/python3 bench/dataset_dask.py [--shards 32] [--scenes 4] [--profiles 128]
 """
 import argparse
 import os
@@ -42,7 +42,7 @@ def run(s, workers, root):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--shards", type=int, default=8)
+    ap.add_argument("--shards", type=int, default=32)
     ap.add_argument("--scenes", type=int, default=4)
     ap.add_argument("--profiles", type=int, default=128)
     a = ap.parse_args()

@@ -1,9 +1,16 @@
 #include "common/sha256.h"
 
+#include <atomic>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <vector>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <cpuid.h>
+#include <immintrin.h>
+#define VTS_SHA256_X86 1
+#endif
 
 namespace vts {
 namespace {
@@ -20,17 +27,8 @@ constexpr std::uint32_t kK[64] = {
 
 constexpr std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
 
-}  // namespace
-
-Sha256::Sha256() { reset(); }
-
-void Sha256::reset() {
-  h_ = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
-  used_ = 0;
-  bytes_ = 0;
-}
-
-void Sha256::block(const std::uint8_t* p) {
+// One 64-byte block by the standard's formulas (FIPS 180-4, 6.2.2).
+void block_portable(std::uint32_t* st, const std::uint8_t* p) {
   std::uint32_t w[64];
   for (int i = 0; i < 16; ++i)
     w[i] = std::uint32_t(p[4 * i]) << 24 | std::uint32_t(p[4 * i + 1]) << 16 | std::uint32_t(p[4 * i + 2]) << 8 |
@@ -40,13 +38,87 @@ void Sha256::block(const std::uint8_t* p) {
     const std::uint32_t s1 = rotr(w[i - 2], 17) ^ rotr(w[i - 2], 19) ^ (w[i - 2] >> 10);
     w[i] = w[i - 16] + s0 + w[i - 7] + s1;
   }
-  std::uint32_t a = h_[0], b = h_[1], c = h_[2], d = h_[3], e = h_[4], f = h_[5], g = h_[6], h = h_[7];
+  std::uint32_t a = st[0], b = st[1], c = st[2], d = st[3], e = st[4], f = st[5], g = st[6], h = st[7];
   for (int i = 0; i < 64; ++i) {
     const std::uint32_t t1 = h + (rotr(e, 6) ^ rotr(e, 11) ^ rotr(e, 25)) + ((e & f) ^ (~e & g)) + kK[i] + w[i];
     const std::uint32_t t2 = (rotr(a, 2) ^ rotr(a, 13) ^ rotr(a, 22)) + ((a & b) ^ (a & c) ^ (b & c));
     h = g, g = f, f = e, e = d + t1, d = c, c = b, b = a, a = t1 + t2;
   }
-  h_[0] += a, h_[1] += b, h_[2] += c, h_[3] += d, h_[4] += e, h_[5] += f, h_[6] += g, h_[7] += h;
+  st[0] += a, st[1] += b, st[2] += c, st[3] += d, st[4] += e, st[5] += f, st[6] += g, st[7] += h;
+}
+
+#ifdef VTS_SHA256_X86
+// n blocks with the SHA extensions (Intel's SHA-NI: SHA256RNDS2 does two
+// rounds on the state held as ABEF and CDGH; SHA256MSG1/MSG2 extend the
+// message schedule four words at a time, W[t] = s1(W[t-2]) + W[t-7] +
+// s0(W[t-15]) + W[t-16]).
+__attribute__((target("sha,sse4.1,ssse3"))) void blocks_x86(std::uint32_t* state, const std::uint8_t* p,
+                                                             std::size_t n) {
+  const __m128i kSwap = _mm_set_epi64x(0x0c0d0e0f08090a0bLL, 0x0405060700010203LL);  // big-endian words
+  __m128i dcba = _mm_loadu_si128(reinterpret_cast<const __m128i*>(state));
+  __m128i hgfe = _mm_loadu_si128(reinterpret_cast<const __m128i*>(state + 4));
+  const __m128i cdab = _mm_shuffle_epi32(dcba, 0xB1);
+  const __m128i efgh = _mm_shuffle_epi32(hgfe, 0x1B);
+  __m128i abef = _mm_alignr_epi8(cdab, efgh, 8);
+  __m128i cdgh = _mm_blend_epi16(efgh, cdab, 0xF0);
+  for (; n > 0; --n, p += 64) {
+    const __m128i abef0 = abef, cdgh0 = cdgh;
+    __m128i w[4];
+    for (int i = 0; i < 4; ++i)
+      w[i] = _mm_shuffle_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * i)), kSwap);
+    for (int g = 0; g < 16; ++g) {  // rounds 4g .. 4g + 3
+      if (g >= 4) {                 // words 4g .. 4g + 3 replace words 4g - 16 ..
+        __m128i x = _mm_sha256msg1_epu32(w[g & 3], w[(g + 1) & 3]);
+        x = _mm_add_epi32(x, _mm_alignr_epi8(w[(g + 3) & 3], w[(g + 2) & 3], 4));
+        w[g & 3] = _mm_sha256msg2_epu32(x, w[(g + 3) & 3]);
+      }
+      const __m128i wk = _mm_add_epi32(w[g & 3], _mm_loadu_si128(reinterpret_cast<const __m128i*>(kK + 4 * g)));
+      cdgh = _mm_sha256rnds2_epu32(cdgh, abef, wk);
+      abef = _mm_sha256rnds2_epu32(abef, cdgh, _mm_shuffle_epi32(wk, 0x0E));
+    }
+    abef = _mm_add_epi32(abef, abef0);
+    cdgh = _mm_add_epi32(cdgh, cdgh0);
+  }
+  const __m128i feba = _mm_shuffle_epi32(abef, 0x1B);
+  const __m128i dchg = _mm_shuffle_epi32(cdgh, 0xB1);
+  dcba = _mm_blend_epi16(feba, dchg, 0xF0);
+  hgfe = _mm_alignr_epi8(dchg, feba, 8);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(state), dcba);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(state + 4), hgfe);
+}
+
+bool cpu_has_sha() {
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  if (!__get_cpuid(1, &a, &b, &c, &d)) return false;
+  const bool sse41 = (c & bit_SSE4_1) != 0, ssse3 = (c & bit_SSSE3) != 0;
+  if (!__get_cpuid_count(7, 0, &a, &b, &c, &d)) return false;
+  return sse41 && ssse3 && (b & (1u << 29)) != 0;  // CPUID.(7,0):EBX bit 29: SHA
+}
+const bool kCpuHasSha = cpu_has_sha();
+#else
+constexpr bool kCpuHasSha = false;
+#endif
+
+std::atomic<bool> use_cpu_sha{kCpuHasSha};
+
+}  // namespace
+
+bool sha256_cpu_extensions() { return use_cpu_sha.load(std::memory_order_relaxed); }
+void sha256_use_cpu_extensions(bool on) { use_cpu_sha.store(on && kCpuHasSha, std::memory_order_relaxed); }
+
+Sha256::Sha256() { reset(); }
+
+void Sha256::reset() {
+  h_ = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
+  used_ = 0;
+  bytes_ = 0;
+}
+
+void Sha256::blocks(const std::uint8_t* p, std::size_t n) {
+#ifdef VTS_SHA256_X86
+  if (use_cpu_sha.load(std::memory_order_relaxed)) return blocks_x86(h_.data(), p, n);
+#endif
+  for (; n > 0; --n, p += 64) block_portable(h_.data(), p);
 }
 
 void Sha256::update(const void* data, std::size_t size) {
@@ -57,10 +129,11 @@ void Sha256::update(const void* data, std::size_t size) {
     std::memcpy(buf_.data() + used_, p, n);
     used_ += n, p += n, size -= n;
     if (used_ < buf_.size()) return;
-    block(buf_.data());
+    blocks(buf_.data(), 1);
     used_ = 0;
   }
-  for (; size >= 64; p += 64, size -= 64) block(p);
+  blocks(p, size / 64);
+  p += size / 64 * 64, size %= 64;
   std::memcpy(buf_.data(), p, size);
   used_ = size;
 }

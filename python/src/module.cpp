@@ -613,32 +613,43 @@ vts.cell(name) (built in), vts.load_scene(path) or vts.parse_scene(text).
   });
 
   // ---- Datasets (python/vts/dataset.py wraps these) ----------------------
+  // Parsing a spec takes milliseconds and each call below gets its text: the
+  // last few parsed are kept (called with the GIL held, so one at a time).
+  static std::vector<std::pair<std::string, std::shared_ptr<const DatasetSpec>>> parsed_specs;
+  static const auto spec_of = [](const std::string& text) {
+    for (const auto& [t, spec] : parsed_specs)
+      if (t == text) return spec;
+    auto spec = std::make_shared<const DatasetSpec>(parse_dataset_spec(text, "<spec>"));
+    if (parsed_specs.size() >= 4) parsed_specs.erase(parsed_specs.begin());
+    parsed_specs.emplace_back(text, spec);
+    return spec;
+  };
   m.def("dataset_canonical", [](const std::string& text, const std::string& name) {
     return dataset_spec_to_yaml(parse_dataset_spec(text, name));
   });
-  m.def("dataset_shard_count", [](const std::string& text) { return shard_count(parse_dataset_spec(text, "<spec>")); });
+  m.def("dataset_shard_count", [](const std::string& text) { return shard_count(*spec_of(text)); });
   m.def("dataset_write_shard", [](const std::string& text, int k, const std::filesystem::path& out) {
-    const DatasetSpec spec = parse_dataset_spec(text, "<spec>");
+    const std::shared_ptr<const DatasetSpec> spec = spec_of(text);
     ShardInfo info;
     without_gil([&](const std::function<bool()>& cancelled) {
       DatasetCallbacks cb;
       cb.cancelled = cancelled;
-      info = write_shard(spec, k, out, cb);
+      info = write_shard(*spec, k, out, cb);
     });
     return shard_dict(info);
   });
   m.def("dataset_verified_shard", [](const std::string& text, int k, const std::filesystem::path& out) -> py::object {
-    const DatasetSpec spec = parse_dataset_spec(text, "<spec>");
+    const std::shared_ptr<const DatasetSpec> spec = spec_of(text);
     std::optional<ShardInfo> info;
     {
       py::gil_scoped_release release;
-      info = verified_shard(spec, k, out);
+      info = verified_shard(*spec, k, out);
     }
     return info ? py::object(shard_dict(*info)) : py::object(py::none());
   });
   m.def("dataset_write_manifest", [](const std::string& text, const py::list& records, const std::filesystem::path& out) {
     std::vector<ShardInfo> shards;
     for (const py::handle h : records) shards.push_back(shard_of(h));
-    write_manifest(parse_dataset_spec(text, "<spec>"), shards, out);
+    write_manifest(*spec_of(text), shards, out);
   });
 }

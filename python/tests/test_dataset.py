@@ -96,6 +96,18 @@ def test_one_machines_share(tmp_path):
     assert ds.generate(SPEC, tmp_path, shards=[1])["shards"][1]["shard"] == 1
 
 
+def test_shards_written_where_the_caller_cannot_see_them_are_not_complete(tmp_path, monkeypatch):
+    # The records the writers return are taken without hashing the files again,
+    # but only for files the caller finds with the recorded sizes: a worker
+    # that wrote to its own disk leaves the run incomplete, and no manifest.
+    elsewhere = tmp_path / "worker-disk"
+    real = ds._vts.dataset_write_shard
+    monkeypatch.setattr(ds._vts, "dataset_write_shard", lambda text, k, out: real(text, k, str(elsewhere)))
+    with pytest.raises(RuntimeError, match=r"shards \[0, 1, 2\] are not complete"):
+        ds.generate(SPEC, tmp_path / "shared")
+    assert not (tmp_path / "shared" / "manifest.json").exists()
+
+
 def test_bad_specs_name_the_field():
     with pytest.raises(ValueError, match=r"joints\.butt\.gap_mm.*min must not exceed max"):
         ds.load_spec({**SPEC, "joints": {"butt": {"gap_mm": [2, 0.5]}}})

@@ -77,6 +77,17 @@ def _make_shard(k: int, spec_text: str, out_dir: str) -> dict:
     return _vts.dataset_write_shard(spec_text, k, out_dir)
 
 
+def _files_there(record: dict, out_dir: str) -> bool:
+    """Every file of a shard's record is in out_dir with the recorded size."""
+    for f in record["files"]:
+        try:
+            if os.path.getsize(os.path.join(out_dir, f["name"])) != f["bytes"]:
+                return False
+        except OSError:
+            return False
+    return True
+
+
 def generate(spec: Spec, out_dir: Union[str, os.PathLike], client: Any = None, *,
              resume: bool = True, shards: Optional[Iterable[int]] = None,
              progress: Optional[Callable[[int, int], None]] = None) -> Optional[dict]:
@@ -100,13 +111,25 @@ def generate(spec: Spec, out_dir: Union[str, os.PathLike], client: Any = None, *
     for k in wanted:
         if not 0 <= k < n:
             raise ValueError(f"shards: {k} is not a shard of this spec (0 .. {n - 1})")
-    todo = [k for k in wanted if not (resume and _vts.dataset_verified_shard(text, k, out))]
+    # Each shard's record, hashed once: by the check below for a shard found
+    # complete, by the process that wrote it for a shard made here (its
+    # files' SHA-256 read back from disk after writing), by a final check
+    # for a shard neither found nor made here (another machine's share).
+    records: dict = {}
+    todo = []
+    for k in wanted:
+        r = _vts.dataset_verified_shard(text, k, out) if resume else None
+        if r is None:
+            todo.append(k)
+        else:
+            records[k] = r
+    made = set(todo)
     done = len(wanted) - len(todo)
     if progress:
         progress(done, len(wanted))
     if client is None:
         for k in todo:
-            _vts.dataset_write_shard(text, k, out)
+            records[k] = _vts.dataset_write_shard(text, k, out)
             done += 1
             if progress:
                 progress(done, len(wanted))
@@ -115,16 +138,22 @@ def generate(spec: Spec, out_dir: Union[str, os.PathLike], client: Any = None, *
 
         futures = client.map(_make_shard, todo, spec_text=text, out_dir=out, pure=False)
         for f in as_completed(futures):
-            f.result()  # a worker's exception is raised here
+            r = f.result()  # a worker's exception is raised here
+            records[int(r["shard"])] = r
             done += 1
             if progress:
                 progress(done, len(wanted))
-    records = [_vts.dataset_verified_shard(text, k, out) for k in range(n)]
-    if any(r is None for r in records):
+    for k in range(n):
+        if k not in records:
+            records[k] = _vts.dataset_verified_shard(text, k, out)
+        elif k in made and not _files_there(records[k], out):
+            records[k] = None  # written where this process cannot see it
+    if any(records[k] is None for k in range(n)):
         if shards is None:
-            missing = [k for k, r in enumerate(records) if r is None]
+            missing = [k for k in range(n) if records[k] is None]
             raise RuntimeError(f"{out}: shards {missing} are not complete after the run")
         return None
+    records = [records[k] for k in range(n)]
     _vts.dataset_write_manifest(text, records, out)
     with open(os.path.join(out, "manifest.json"), encoding="utf-8") as f:
         return json.load(f)
