@@ -258,6 +258,14 @@ struct VGrooveParams {
   // (ButtParams::edge_past_mm).
   bool check_root_past = true;
   double root_past_mm = 0.5;
+  // And of its tops with beads laid (GrooveParams::vgroove_fill), as the
+  // groove model's: more than
+  // ConfidenceParams::unexplained_points (+ unexplained_share of those
+  // looked at) points beyond a top's outer end, within window_mm of it,
+  // standing more than the surface tolerance in front of that top's line
+  // reject the reading: the "top" lies inside a wider groove (a fill's or a
+  // bead's cap beside an unseen wall).
+  bool check_tops_outside = true;
 };
 
 // The groove model (v-groove fill, single bevel, U, J; docs/JOINTS.md

@@ -3685,6 +3685,33 @@ class Matcher {
       c.accepted = check(c, "angle", c.angle, vp.angle_deg, "deg") && check(c, "gap", c.gap, vp.gap_mm, "mm") &&
                    check(c, "mismatch", c.mismatch, vp.mismatch_mm, "mm") &&
                    check(c, "depth", c.depth, vp.depth_mm, "mm");
+      // With beads laid, tops are the work's surface, as the groove model
+      // asks of its own ("a top lies inside a wider groove"): beyond a top's
+      // outer end, within window_mm of it, nothing of the work stands in
+      // front of that top's line. If it does, the "top" is a fill's or a
+      // bead's cap inside a wider groove whose wall was not seen. (Without
+      // beads the tops are the plates; a top that is one piece of a noisy
+      // plate has the rest of it beyond, and the check only trades readings.)
+      if (vp.check_tops_outside && p_.groove.vgroove_fill && c.accepted && (tl || tr)) {
+        const ConfidenceParams& cp = p_.confidence;
+        const int n_pts = static_cast<int>(s_.points.size());
+        int outside = 0, above = 0;
+        auto look = [&](const Plate& t, int from, int step) {
+          Line line = t.line;
+          line.orient_towards(origin_);
+          const Vec2 end = pt(step < 0 ? t.first : t.last);
+          for (int i = from; i >= 0 && i < n_pts && (pt(i) - end).squaredNorm() <= cp.window_mm * cp.window_mm;
+               i += step)
+            ++outside, above += line.signed_distance(pt(i)) > tol_;
+        };
+        if (tl) look(*tl, tl->first - 1, -1);
+        if (tr) look(*tr, tr->last + 1, +1);
+        if (above > cp.unexplained_points + cp.unexplained_share * outside) {
+          c.accepted = false;
+          std::snprintf(c.reason, sizeof c.reason,
+                        "a top lies inside a wider groove: %d points beyond the tops stand in front of them", above);
+        }
+      }
       if (vp.check_root_cover && c.accepted && open_root) {
         if (const RootBump rb = root_bump(el.point, er.point, from, to);
             rb.points >= vp.root_cover_points && rb.share >= vp.root_cover_share && rb.height_mm > tol_ &&

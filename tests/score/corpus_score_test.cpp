@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <map>
+#include <string>
 #include <tuple>
 
 #include "corpus_score.h"
@@ -244,6 +245,28 @@ TEST_CASE("corpus: a thick groove's bead cap is no plate top for the v-groove te
     INFO("seed " << seed << " level " << level << ": " << tk::to_string(one.result.status) << " "
                  << one.result.reason << ", error " << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: a fill's cap beside an unseen wall is no plate top for the v-groove template", "[tracker][corpus][groove]") {
+  // Development seed 165 (thick v-groove nearly filled, beads laid): the
+  // left wall, nearly along the rays, shows no points, so the groove model
+  // has no reading; the template took the fill's surface for the left plate
+  // top (parallel to the right top, 0.4 mm off it) and read a V between the
+  // fill and the right wall, 15 mm from the joint. The real left top stands
+  // 3.7 mm in front of that "top" just beyond its outer end: the reading is
+  // refused (VGrooveParams::check_tops_outside). With the check off it is a
+  // false read, so the test can fail.
+  for (const double level : {0.1, 0.2}) {
+    const ReadOne one = read_one(vc::Joint::VGrooveThick, 165, level);
+    INFO("level " << level << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
+                  << one.scored.track_error_mm);
+    CHECK(one.result.status == tk::TrackStatus::Rejected);
+    CHECK(std::string(one.result.reason).find("inside a wider groove") != std::string::npos);
+    tk::TrackerParams off;
+    off.vgroove.check_tops_outside = false;
+    const ReadOne without = read_one(vc::Joint::VGrooveThick, 165, level, off);
+    CHECK(without.scored.outcome == tk::Outcome::False);
   }
 }
 
