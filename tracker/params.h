@@ -278,8 +278,10 @@ struct GrooveParams {
   Range depth_mm{0.5, 120.0};       // what is left to fill: the tops' line to the bottom's lowest point
   // A wall is a straight run of at least this many points below its top edge,
   // at least min_wall_deg to the plate top, starting within max_edge_mm of
-  // the top's end (a chamfered or rounded top edge lies between).
-  int min_wall_points = 4;
+  // the top's end (a chamfered or rounded top edge lies between). 3: the
+  // fewest whose line has a residual to check; a wall the laser sees nearly
+  // edge-on (a U's, a J's) often has no more.
+  int min_wall_points = 3;
   double min_wall_deg = 20.0;
   double max_edge_mm = 3.0;
   // Each wall's angle to its plate top (90: square), per joint: a bevelled

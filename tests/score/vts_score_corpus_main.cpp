@@ -2,7 +2,7 @@
 // the table of docs/JOINTS.md "Scores".
 //   vts-score-corpus [--profiles N] [--first-seed S] [--joint NAME]... [--camera-in-plane]
 //                    [--failures N] [--tag-stats] [--features FILE] [--dump JOINT SEED LEVEL PREFIX]
-//                    [--track-interval MM] [--hidden-prior P]
+//                    [--track-interval MM] [--hidden-prior P] [--min-wall N]
 // --failures N prints up to N false reads and imprecise readings per joint
 // (seed, tags, result) for a look at them; --features FILE writes one CSV
 // line per profile (outcome, error, confidence terms, rival, break points,
@@ -10,7 +10,8 @@
 // the track point's stated rms error and chance of lying more than the
 // track interval off); --track-interval MM sets the distance the
 // confidence asks the track point to be located within (0: not asked);
-// --hidden-prior P sets ConfidenceParams::hidden_prior.
+// --hidden-prior P sets ConfidenceParams::hidden_prior, --min-wall N
+// GrooveParams::min_wall_points.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -87,6 +88,7 @@ int main(int argc, char** argv) {
     // track point's localization left out of the confidence).
     else if (a == "--track-interval") base.confidence.track_interval_mm = std::atof(value());
     else if (a == "--hidden-prior") base.confidence.hidden_prior = std::atof(value());
+    else if (a == "--min-wall") base.groove.min_wall_points = std::atoi(value());
     else if (a == "--dump") {
       // --dump JOINT SEED LEVEL PREFIX: one profile and its reading, for a plot
       // (tests/score/plot_reading.py).
