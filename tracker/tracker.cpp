@@ -3125,15 +3125,9 @@ class Matcher {
       // another reading. (Measured from the top edges instead, a top longer
       // than window_mm, a fill surface paired with a plate, went unchecked.)
       const ConfidenceParams& cp = p_.confidence;
-      int outside = 0, above = 0;
-      auto look = [&](int from, int step, const Vec2& end) {
-        for (int i = from;
-             i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - end).squaredNorm() <= cp.window_mm * cp.window_mm;
-             i += step)
-          ++outside, above += top.signed_distance(pt(i)) > tol_;
-      };
-      look(a.first - 1, -1, pt(a.first));
-      look(b.last + 1, +1, pt(b.last));
+      int outside = 0;
+      const int above = in_front_beyond(top, pt(a.first), a.first - 1, -1, outside) +
+                        in_front_beyond(top, pt(b.last), b.last + 1, +1, outside);
       if (above > cp.unexplained_points + cp.unexplained_share * (c.evidence.points + outside)) {
         c.accepted = false;
         std::snprintf(c.reason, sizeof c.reason,
@@ -3694,18 +3688,15 @@ class Matcher {
       // plate has the rest of it beyond, and the check only trades readings.)
       if (vp.check_tops_outside && p_.groove.vgroove_fill && c.accepted && (tl || tr)) {
         const ConfidenceParams& cp = p_.confidence;
-        const int n_pts = static_cast<int>(s_.points.size());
         int outside = 0, above = 0;
-        auto look = [&](const Plate& t, int from, int step) {
+        auto beyond = [&](const Plate& t, bool left) {
           Line line = t.line;
           line.orient_towards(origin_);
-          const Vec2 end = pt(step < 0 ? t.first : t.last);
-          for (int i = from; i >= 0 && i < n_pts && (pt(i) - end).squaredNorm() <= cp.window_mm * cp.window_mm;
-               i += step)
-            ++outside, above += line.signed_distance(pt(i)) > tol_;
+          return left ? in_front_beyond(line, pt(t.first), t.first - 1, -1, outside)
+                      : in_front_beyond(line, pt(t.last), t.last + 1, +1, outside);
         };
-        if (tl) look(*tl, tl->first - 1, -1);
-        if (tr) look(*tr, tr->last + 1, +1);
+        if (tl) above += beyond(*tl, true);
+        if (tr) above += beyond(*tr, false);
         if (above > cp.unexplained_points + cp.unexplained_share * outside) {
           c.accepted = false;
           std::snprintf(c.reason, sizeof c.reason,
@@ -3736,6 +3727,19 @@ class Matcher {
       }
       offer(c);
     }
+  }
+
+  // The points from index `from` on, stepping by `step` (+1 or -1), while
+  // within ConfidenceParams::window_mm of `end` (beyond a plate top's outer
+  // end): how many stand more than the surface tolerance on `line`'s
+  // positive side (in front of it); `looked` grows by how many were looked at.
+  int in_front_beyond(const Line& line, const Vec2& end, int from, int step, int& looked) const {
+    const double w2 = p_.confidence.window_mm * p_.confidence.window_mm;
+    int above = 0;
+    for (int i = from; i >= 0 && i < static_cast<int>(s_.points.size()) && (pt(i) - end).squaredNorm() <= w2;
+         i += step)
+      ++looked, above += line.signed_distance(pt(i)) > tol_;
+    return above;
   }
 
   // How far bevel pl's own points lie past its root edge `edge` as read,
