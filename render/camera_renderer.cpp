@@ -4,6 +4,7 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -20,6 +21,14 @@ namespace {
 constexpr const char* kWho = "camera image";
 // Depth range of the projection, mm.
 constexpr double kNearMm = 1.0;
+// GL's face (counter-clockwise in the window is GL_FRONT) of a triangle
+// wound counter-clockwise seen from the camera: its normal faces the camera
+// (-z in camera coordinates), so its signed area in the camera's (x, y) is
+// negative, also after the perspective division (z > 0); the window's x is
+// the image column (the camera's y) and its y the row (the camera's x), a
+// swap, which makes the area positive: counter-clockwise in the window.
+constexpr GLenum kTowardCamera = GL_FRONT;
+constexpr GLenum kAwayFromCamera = GL_BACK;
 
 // z_clip = a w + b maps w = near..far to -1..1.
 Eigen::Vector2f depth_ab(double near, double far) {
@@ -35,10 +44,15 @@ struct CameraRenderer::Impl {
   Eigen::Vector3d mesh_centre = Eigen::Vector3d::Zero();
   GLsizei index_count = 0;
   GLuint vao = 0, vbo = 0, ebo = 0;
-  GLuint ambient_program = 0;
-  GLuint fbo = 0, colour = 0, depth = 0;
+  GLuint coverage_program = 0;
+  GLuint fbo = 0, colour = 0;
   int width = 0, rows = 0, first_row = 0;
   double far_mm = 0.0;
+  // The ambient radiance of each pixel of the region where it sees a
+  // surface (ambient_radiance), and which pixels do (the draw, 0 or 255).
+  std::vector<float> ambient;
+  std::vector<std::uint8_t> seen;
+  MeshOrientation orientation = MeshOrientation::Open;
 
   Impl(const ScannerDesc& d, const Mesh& mesh) : desc(d), cam(camera_geometry(d)) {
     if (const std::string why = validate(d); !why.empty())
@@ -50,6 +64,7 @@ struct CameraRenderer::Impl {
                                       std::to_string(v) + " but the mesh has " +
                                       std::to_string(mesh.vertices.size()) + " vertices");
     const auto [first, count] = image_roi(d);
+    orientation = mesh_orientation(mesh);
     first_row = first;
     rows = count;
     width = d.image_width_px;
@@ -57,19 +72,24 @@ struct CameraRenderer::Impl {
 
     const GlContext::Binding bind(context);
     upload(mesh);
-    ambient_program = link_program(kWho, shaders::camera_image_vert, "camera_image.vert",
-                                   shaders::camera_ambient_frag, "camera_ambient.frag");
+    coverage_program = link_program(kWho, shaders::camera_image_vert, "camera_image.vert",
+                                    shaders::camera_coverage_frag, "camera_coverage.frag");
     make_targets();
+    ambient.resize(static_cast<std::size_t>(width) * rows);
+    seen.resize(ambient.size());
+    for (int k = 0; k < rows; ++k)
+      for (int c = 0; c < width; ++c)
+        ambient[static_cast<std::size_t>(k) * width + c] =
+            static_cast<float>(ambient_radiance(d, cam, c, static_cast<double>(first_row + k)));
     check_gl(kWho, "creating the camera-image pipeline");
   }
 
   ~Impl() {
     try {
       const GlContext::Binding bind(context);
-      glDeleteProgram(ambient_program);
+      glDeleteProgram(coverage_program);
       glDeleteFramebuffers(1, &fbo);
       glDeleteRenderbuffers(1, &colour);
-      glDeleteRenderbuffers(1, &depth);
       glDeleteBuffers(1, &vbo);
       glDeleteBuffers(1, &ebo);
       glDeleteVertexArrays(1, &vao);
@@ -114,14 +134,10 @@ struct CameraRenderer::Impl {
   void make_targets() {
     glGenRenderbuffers(1, &colour);
     glBindRenderbuffer(GL_RENDERBUFFER, colour);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_R32F, width, rows);
-    glGenRenderbuffers(1, &depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, rows);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_R8, width, rows);
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       throw std::runtime_error(std::string(kWho) + ": the image framebuffer is incomplete");
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -145,18 +161,23 @@ struct CameraRenderer::Impl {
     const Eigen::Matrix4f mf = m.cast<float>();
 
     glBindVertexArray(vao);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);
-
-    // Every surface the camera sees, nearest first, with the ambient light
-    // it reflects.
+    // Which pixels see a surface: every triangle drawn, none hidden (no
+    // depth test: the ambient light is the same on every surface, so only
+    // the union of their images matters; near and far planes as before).
+    glDisable(GL_DEPTH_TEST);
+    if (orientation == MeshOrientation::Open) {
+      glDisable(GL_CULL_FACE);
+    } else {
+      // Only the triangles facing the camera (every ray into a solid enters
+      // through one of them first), about half the pixels to draw.
+      glEnable(GL_CULL_FACE);
+      glCullFace(orientation == MeshOrientation::Outward ? kAwayFromCamera : kTowardCamera);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, width, rows);
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     glClearBufferfv(GL_COLOR, 0, zero);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    const GLuint p = ambient_program;
+    const GLuint p = coverage_program;
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "sensor_from_mesh"), 1, GL_FALSE, mf.data());
     set(p, "cam_centre", cam.centre);
@@ -169,19 +190,13 @@ struct CameraRenderer::Impl {
     set(p, "target", Eigen::Vector2f(static_cast<float>(width), static_cast<float>(rows)));
     set(p, "first_row", static_cast<float>(first_row));
     set(p, "depth_ab", depth_ab(kNearMm, far_mm));
-    set(p, "cam_axis", Eigen::Vector3d(cam.camera_from_sensor.row(2).transpose()));
-    set(p, "diffuse", static_cast<float>(desc.reflectivity));
-    set(p, "ambient", static_cast<float>(desc.ambient_w_m2 * 1e-6));
-    // The slab's clip distances are written but not enabled (camera_image.vert).
-    set(p, "slab", Eigen::Vector3d(desc.sheet_waist_mm, desc.sheet_focus_mm, sheet_rayleigh_mm(desc)));
-    set(p, "slab_footprint",
-        static_cast<float>((2.0 + 3.0 * desc.psf_sigma_px) * desc.pixel_pitch_um * 1e-3 / desc.focal_length_mm));
     glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
 
     if (out.width != width || out.rows != rows || out.first_row != first_row) out.resize(width, rows, first_row);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, width, rows, GL_RED, GL_FLOAT, out.ambient.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, rows, GL_RED, GL_UNSIGNED_BYTE, seen.data());
     check_gl(kWho, "drawing the camera image");
+    for (std::size_t i = 0; i < seen.size(); ++i) out.ambient[i] = seen[i] != 0 ? ambient[i] : 0.0f;
     std::fill(out.laser.begin(), out.laser.end(), 0.0f);
   }
 };

@@ -54,6 +54,15 @@ bool project(const CameraGeometry& cam, const Eigen::Vector3d& p_sensor, Eigen::
 // plane in front of the camera.
 bool triangulate(const CameraGeometry& cam, double column, double row, Eigen::Vector2d& yz);
 
+// The ambient light's radiance toward the camera (W/(mm^2 sr)) in pixel
+// (column, row) where that pixel sees a surface: E_amb rho_d / pi (the
+// ambient irradiance in the filter band, reflected diffusely) times cos^4 of
+// the pixel ray's angle off the camera's axis (the camera equation's
+// fall-off, as for the laser light). The same on every surface (one
+// reflectivity per scene), so render/camera_renderer.h draws only which
+// pixels see a surface.
+double ambient_radiance(const ScannerDesc& desc, const CameraGeometry& cam, double column, double row);
+
 // The sheet's 1/e^2 half thickness at range r (mm): a Gaussian beam of waist
 // w0 at sheet_focus_mm with quality M^2,
 //   w(r) = w0 sqrt(1 + ((r - r_f) / z_R)^2),  z_R = pi w0^2 / (M^2 lambda).

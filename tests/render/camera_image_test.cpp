@@ -12,12 +12,14 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/camera_renderer.h"
 #include "sensor/camera_image.h"
 #include "sensor/cell.h"
 #include "sensor/error_model.h"
+#include "sensor/mesh.h"
 #include "sensor/presets.h"
 #include "sensor/ray_scene.h"
 #include "sensor/reference_source.h"
@@ -460,4 +462,173 @@ TEST_CASE("a shiny thick v-groove at the default exposure looks like a welding s
   CHECK(bg_sd <= 3.0);
   CHECK(multi_share >= 11.0);
   CHECK(multi_share <= 33.0);
+}
+
+namespace {
+
+// The ray of pixel (column, row) in the sensor frame, from the camera
+// centre: the projection's inverse in camera coordinates,
+// (u cos(tau), v, f + u sin(tau)) with u = row - cy, v = column - cx. Checked
+// against vts::project by the caller.
+Eigen::Vector3d pixel_ray(const vts::CameraGeometry& cam, double column, double row) {
+  const double u = row - cam.cy, v = column - cam.cx;
+  return (cam.camera_from_sensor.transpose() *
+          Eigen::Vector3d(u * cam.cos_tilt, v, cam.f_px + u * cam.sin_tilt)).normalized();
+}
+
+// The built-in v-groove cell's scanner in the camera-image mode, with more
+// ambient light than its default.
+vts::ScannerDesc ambient_scanner(const vts::Cell& cell) {
+  vts::ScannerDesc d = cell.scanner;
+  d.camera_image = true;
+  d.ambient_w_m2 = 2.0;
+  return d;
+}
+
+struct AmbientCheck {
+  long seen_both = 0, dark_both = 0, edge = 0, wrong = 0;
+  double worst_rel = 0.0;
+};
+
+// Every `step`-th pixel of the rendered ambient light against the ray-cast
+// reference: where the pixel's ray meets the part, E rho / pi cos^4 of the
+// ray's angle off the axis (from the hit point); nothing where it does not.
+// A pixel that disagrees is an edge if one of its four neighbours' rays
+// disagrees with its own (the rasterizer and the ray see the edge a pixel
+// apart at most).
+AmbientCheck check_ambient(const vts::ScannerDesc& d, const vts::Mesh& mesh, const vts::Pose& pose, int step) {
+  const vts::CameraGeometry cam = vts::camera_geometry(d);
+  vts::CameraRenderer renderer(d, mesh);
+  vts::RadianceImage rad;
+  renderer.render(pose, rad);
+  REQUIRE(rad.ambient.size() == static_cast<std::size_t>(rad.width) * rad.rows);
+  vts::RayScene scene(mesh, "test");
+  const Eigen::Vector3d centre_world = pose * cam.centre;
+  const Eigen::Vector3d axis = cam.camera_from_sensor.row(2).transpose();
+  const auto hits = [&](double c, double r, Eigen::Vector3d* p_sensor) {
+    const Eigen::Vector3d dir = pixel_ray(cam, c, r);
+    Eigen::Vector2d back;
+    REQUIRE(vts::project(cam, cam.centre + 100.0 * dir, back));
+    REQUIRE(std::abs(back.x() - c) < 1e-6);
+    REQUIRE(std::abs(back.y() - r) < 1e-6);
+    vts::RayScene::Hit hit;
+    const bool found = scene.intersect(centre_world.cast<float>(), (pose.linear() * dir).cast<float>(), 1.0f, 1e5f, hit);
+    if (found && p_sensor) *p_sensor = cam.centre + static_cast<double>(hit.t) * dir;
+    return found;
+  };
+  const double e_rho = d.ambient_w_m2 * 1e-6 * d.reflectivity / kPi;
+  AmbientCheck out;
+  for (int k = 0; k < rad.rows; k += step)
+    for (int c = 0; c < rad.width; c += step) {
+      const int r = rad.first_row + k;
+      Eigen::Vector3d p;
+      const bool ray = hits(c, r, &p);
+      const float got = rad.ambient[static_cast<std::size_t>(k) * rad.width + c];
+      if (ray == (got > 0.0f)) {
+        if (!ray) {
+          ++out.dark_both;
+          continue;
+        }
+        ++out.seen_both;
+        const double cos_off = axis.dot((p - cam.centre).normalized());
+        const double want = e_rho * std::pow(cos_off, 4);
+        out.worst_rel = std::max(out.worst_rel, std::abs(got - want) / want);
+        continue;
+      }
+      bool edge = false;
+      for (const auto& [dc, dr] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}})
+        edge = edge || hits(c + dc, r + dr, nullptr) != ray;
+      ++(edge ? out.edge : out.wrong);
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the ambient light is E rho / pi cos^4 wherever the ray-cast reference sees the part, and none "
+          "elsewhere",
+          "[camera_image][gl]") {
+  auto cell = vts::builtin_cell("vgroove");
+  REQUIRE(cell);
+  vts::ScannerDesc d = ambient_scanner(*cell);
+  vts::Mesh mesh = cell->mesh();
+  vts::Pose pose = cell->path.pose_at(50);
+  int step = 9;
+  long min_dark = 100;  // the full frame's edges look past the plates
+  SECTION("the v-groove cell, closed solids (faces away from the camera culled), full frame") {
+    REQUIRE(vts::mesh_orientation(mesh) == vts::MeshOrientation::Outward);
+  }
+  SECTION("the same with a 64-row region of interest and the sensor turned") {
+    d.image_roi_first_row = 600;
+    d.image_roi_rows = 64;
+    pose = cell->path.pose_at(20) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+    step = 2;
+    min_dark = 0;
+  }
+  SECTION("an open strip (nothing culled), edges in view") {
+    mesh = vts::Mesh{};
+    add_quad(mesh, {-20, -15, 110}, {20, -15, 110}, {20, 10, 95}, {-20, 10, 95});
+    REQUIRE(vts::mesh_orientation(mesh) == vts::MeshOrientation::Open);
+    pose = vts::Pose::Identity();
+    step = 7;
+    min_dark = 3000;
+  }
+  const AmbientCheck a = check_ambient(d, mesh, pose, step);
+  INFO("seen " << a.seen_both << ", dark " << a.dark_both << ", edge " << a.edge << ", wrong " << a.wrong
+               << ", worst " << a.worst_rel);
+  CHECK(a.seen_both > 3000);
+  CHECK(a.dark_both >= min_dark);
+  CHECK(a.wrong == 0);
+  CHECK(a.edge <= a.seen_both / 100);
+  CHECK(a.worst_rel < 1e-5);
+}
+
+TEST_CASE("a closed part is seen by its faces toward the camera even where its back lies beyond the far plane",
+          "[camera_image][gl]") {
+  // A box from 100 mm to 100 m deep (sensor frame = world): its front face
+  // fills the image; its back face is far beyond the renderer's far plane.
+  // Culling the faces toward the camera instead of those away would leave
+  // the side walls' insides, which leave a hole where the back face would
+  // be (about a tenth of the image).
+  auto cell = vts::builtin_cell("vgroove");
+  REQUIRE(cell);
+  const vts::ScannerDesc d = ambient_scanner(*cell);
+  const vts::CameraGeometry cam = vts::camera_geometry(d);
+  vts::Mesh solid;
+  const float h = 400.0f, z0 = 100.0f, z1 = 1e5f;
+  for (int k = 0; k < 8; ++k)
+    solid.vertices.push_back({(k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? z1 : z0});
+  const auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t e) {
+    solid.triangles.push_back({a, b, c});
+    solid.triangles.push_back({a, c, e});
+  };
+  quad(0, 2, 3, 1);
+  quad(4, 5, 7, 6);
+  quad(0, 1, 5, 4);
+  quad(2, 6, 7, 3);
+  quad(0, 4, 6, 2);
+  quad(1, 3, 7, 5);
+  for (const bool inward : {false, true}) {
+    vts::Mesh m = solid;
+    if (inward)
+      for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    REQUIRE(vts::mesh_orientation(m) == (inward ? vts::MeshOrientation::Inward : vts::MeshOrientation::Outward));
+    vts::CameraRenderer renderer(d, m);
+    vts::RadianceImage rad;
+    renderer.render(vts::Pose::Identity(), rad);
+    // Every 8th pixel; each one's ray meets the front face.
+    int seen = 0, checked = 0;
+    for (int r = 0; r < cam.height; r += 8)
+      for (int c = 0; c < cam.width; c += 8) {
+        const Eigen::Vector3d dir = pixel_ray(cam, c, r);
+        const double t = (z0 - cam.centre.z()) / dir.z();
+        const Eigen::Vector3d p = cam.centre + t * dir;
+        REQUIRE(std::abs(p.x()) < h);
+        REQUIRE(std::abs(p.y()) < h);
+        ++checked;
+        seen += rad.ambient[static_cast<std::size_t>(r - rad.first_row) * rad.width + c] > 0.0f;
+      }
+    INFO((inward ? "inward" : "outward") << ": " << seen << " of " << checked);
+    CHECK(seen == checked);
+  }
 }
