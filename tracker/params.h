@@ -404,6 +404,13 @@ struct ConfidenceParams {
   // is a rival where the joint may lie, under it, as strong as its points'
   // cost under the reading (docs/JOINTS.md "Evidence"). false: not weighed.
   bool bump_rival = true;
+  // A point beside the joint is weighed against the plate on its own side
+  // only (or a line seen beside the plates), as a reading's cost counts it:
+  // a surface there on the other plate's line says that plate goes on
+  // (a tack weld's top read as a plate, the plate beyond it at the other
+  // plate's level). false: the nearer of the two plates' lines (before
+  // 2026-11-27).
+  bool own_side_only = true;
 };
 
 // A prediction of where the joint is (sensor frame, mm), from the profiles
