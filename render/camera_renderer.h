@@ -1,8 +1,10 @@
 #pragma once
-// The camera image's drawing (the physics is sensor/camera_image.h): renders
-// the part as the sensor's camera sees it in the ambient light, the
-// radiance of every pixel of the region of interest, with OSMesa: one draw
-// per image (shaders/camera_image.vert, camera_ambient.frag). The laser
+// The camera image's drawing (the physics is sensor/camera_image.h): the
+// ambient light's radiance of every pixel of the region of interest, from
+// which pixels see the part, drawn with OSMesa (one draw per image,
+// shaders/camera_image.vert and camera_coverage.frag; the triangles facing
+// away from the camera culled on a closed mesh, mesh_orientation), and each
+// such pixel's ambient_radiance (a table made once). The laser
 // light (the stripe, its bounce and mirror images) is traced on the CPU
 // (trace_laser_paths) and added by form_image. Only plain data leaves: a
 // RadianceImage whose laser channel is zero.
