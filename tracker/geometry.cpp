@@ -1,6 +1,7 @@
 #include "tracker/geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -128,14 +129,20 @@ double prob_outside_circle(const Eigen::Matrix2d& cov, double r) {
   // (Simpson's rule over t in [0, pi / 2], the integrand symmetric in z1;
   // a at most 9: phi beyond is below 1e-17).
   const double a = std::min(r / std::sqrt(l1), 9.0);
-  const int n = 64;  // even
+  constexpr int n = 64;  // even
   const double h = 0.5 * std::numbers::pi / n;
+  // sin and cos of the nodes t = k h, the same for every call.
+  static const std::array<std::array<double, 2>, n + 1> trig = [h] {
+    std::array<std::array<double, 2>, n + 1> v{};
+    for (int k = 0; k <= n; ++k) v[k] = {std::sin(k * h), std::cos(k * h)};
+    return v;
+  }();
   double sum = 0.0;
   for (int k = 0; k <= n; ++k) {
-    const double t = k * h, z = a * std::sin(t);
+    const double z = a * trig[k][0];
     const double rest = std::max(r * r - l1 * z * z, 0.0);
     const double inner = l2 > 0.0 ? std::erf(std::sqrt(rest / (2.0 * l2))) : 1.0;
-    const double f = std::exp(-0.5 * z * z) * inner * a * std::cos(t);
+    const double f = std::exp(-0.5 * z * z) * inner * a * trig[k][1];
     sum += f * (k == 0 || k == n ? 1.0 : (k % 2 ? 4.0 : 2.0));
   }
   const double inside = 2.0 * sum * h / 3.0 / std::sqrt(2.0 * std::numbers::pi);

@@ -459,6 +459,16 @@ class Matcher {
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
   double point_sigma_ = 0.0;  // set_point_sigma
+  // cov_of's last answers for a line and a point range: the checks that
+  // place a point on a plate ask for the same plate's again and again.
+  struct CovMemo {
+    Line line;
+    int first = 0, last = -1;
+    LineCov cov;
+    bool used = false;
+  };
+  mutable std::array<CovMemo, 8> cov_memo_{};
+  mutable std::size_t cov_memo_next_ = 0;
   // cost() is 0 for distances up to this: found with cost()'s own arithmetic
   // (d / sigma_ and its square are monotonic in d), so the same.
   double zero_cost_d_ = -1.0;
@@ -1006,10 +1016,14 @@ class Matcher {
   static constexpr double kOutlierSigma = 5.0;
   LineCov cov_of(const Plate& pl) const { return cov_of(pl.line, pl.first, pl.last); }
   LineCov cov_of(const Line& line, int first, int last) const {
+    for (const CovMemo& m : cov_memo_)
+      if (m.used && m.first == first && m.last == last && m.line.c == line.c && m.line.n == line.n) return m.cov;
     PointSums sums;
     for (int i = first; i <= last; ++i)
       if (line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
-    return cov_of(line, sums);
+    const LineCov lc = cov_of(line, sums);
+    cov_memo_[cov_memo_next_++ % cov_memo_.size()] = {line, first, last, lc, true};
+    return lc;
   }
   // The same for a line fitted to the points of `sums` (relative to s_.ref_).
   LineCov cov_of(const Line& line, const PointSums& sums) const {
