@@ -909,10 +909,12 @@ class Matcher {
     int into = 0;   // rays into the open joint that found something
     int stray = 0;  // points between the plates of an open joint that fit nothing of it
     // Each point counts `w` times (the plates' points are sampled, below).
-    // A point beside the joint (side -1: plate a's, +1: plate b's) is
-    // explained by the plate on its own side or a line seen beside them
-    // (ConfidenceParams::own_side_only), as in cost_under.
-    auto weigh_point = [&](const Vec2& q, bool between, int w = 1, int side = 0) {
+    // `side`: 0 between the plates' ends; -1 or +1 beside the joint, on
+    // plate a's or b's side, where a point is explained by the plate on its
+    // own side or a line seen beside them (ConfidenceParams::own_side_only),
+    // as in cost_under.
+    auto weigh_point = [&](const Vec2& q, int side, int w = 1) {
+      const bool between = side == 0;
       ev.points += w;
       const double da = c.pa.line.signed_distance(q), db = c.pb.line.signed_distance(q);
       // A ray into the joint: between the plates' ends, inside the opening,
@@ -922,8 +924,8 @@ class Matcher {
         ++into;
         return;
       }
-      if (!cp.own_side_only) side = 0;
-      double d = side < 0 ? la.distance(q) : side > 0 ? lb.distance(q) : std::min(la.distance(q), lb.distance(q));
+      const int own = cp.own_side_only ? side : 0;
+      double d = own < 0 ? la.distance(q) : own > 0 ? lb.distance(q) : std::min(la.distance(q), lb.distance(q));
       for (int k = 0; k < c.n_more; ++k) d = std::min(d, c.more[k].distance(q));
       if (d > tol_) ev.unexplained += w;
       if (between && c.open_joint && d > tol_) {
@@ -935,16 +937,16 @@ class Matcher {
     };
     // The plates' points beside the joint, every stride-th, weighted;
     // everything between the plates' ends.
-    for (int i = c.pa.last; i >= w0; i -= stride) weigh_point(pt(i), false, std::min(stride, i - w0 + 1), -1);
-    for (int i = c.pa.last + 1; i < c.pb.first && i <= w1; ++i) weigh_point(pt(i), true);
-    for (int i = c.pb.first; i <= w1; i += stride) weigh_point(pt(i), false, std::min(stride, w1 - i + 1), +1);
+    for (int i = c.pa.last; i >= w0; i -= stride) weigh_point(pt(i), -1, std::min(stride, i - w0 + 1));
+    for (int i = c.pa.last + 1; i < c.pb.first && i <= w1; ++i) weigh_point(pt(i), 0);
+    for (int i = c.pb.first; i <= w1; i += stride) weigh_point(pt(i), +1, std::min(stride, w1 - i + 1));
     const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
     for (const Vec2& o : outliers_between(s_.cols[w0], s_.cols[w1])) {
       // Removed points count between the plates' ends only (elsewhere they
       // are the outliers that step 1 found).
       const auto k = &o - s_.outlier_points.data();
       const int col = s_.outlier_cols[static_cast<std::size_t>(k)];
-      if (col > ca && col < cb) weigh_point(o, true);
+      if (col > ca && col < cb) weigh_point(o, 0);
     }
     // "No joint" must explain the rays into the joint (invalid columns and
     // the points counted above) and the stray points between the plates as
