@@ -23,6 +23,7 @@
 #include "sensor/presets.h"
 #include "sensor/ray_scene.h"
 #include "sensor/reference_source.h"
+#include "tests/sensor/box_mesh.h"
 
 namespace {
 
@@ -594,24 +595,10 @@ TEST_CASE("a closed part is seen by its faces toward the camera even where its b
   REQUIRE(cell);
   const vts::ScannerDesc d = ambient_scanner(*cell);
   const vts::CameraGeometry cam = vts::camera_geometry(d);
-  vts::Mesh solid;
   const float h = 400.0f, z0 = 100.0f, z1 = 1e5f;
-  for (int k = 0; k < 8; ++k)
-    solid.vertices.push_back({(k & 1) ? h : -h, (k & 2) ? h : -h, (k & 4) ? z1 : z0});
-  const auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t e) {
-    solid.triangles.push_back({a, b, c});
-    solid.triangles.push_back({a, c, e});
-  };
-  quad(0, 2, 3, 1);
-  quad(4, 5, 7, 6);
-  quad(0, 1, 5, 4);
-  quad(2, 6, 7, 3);
-  quad(0, 4, 6, 2);
-  quad(1, 3, 7, 5);
+  const vts::Mesh solid = vts::test::box({-h, -h, z0}, {h, h, z1});
   for (const bool inward : {false, true}) {
-    vts::Mesh m = solid;
-    if (inward)
-      for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    const vts::Mesh m = inward ? vts::test::flipped(solid) : solid;
     REQUIRE(vts::mesh_orientation(m) == (inward ? vts::MeshOrientation::Inward : vts::MeshOrientation::Outward));
     vts::CameraRenderer renderer(d, m);
     vts::RadianceImage rad;

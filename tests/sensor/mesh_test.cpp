@@ -6,34 +6,10 @@
 
 #include "sensor/cell.h"
 #include "sensor/mesh.h"
+#include "tests/sensor/box_mesh.h"
 
-namespace {
-
-// An axis-aligned box, counter-clockwise seen from outside: each face's
-// corners in the order that makes (b - a) x (c - a) point out of the box.
-vts::Mesh box(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-  vts::Mesh m;
-  for (int k = 0; k < 8; ++k)
-    m.vertices.push_back({(k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z()});
-  const auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-    m.triangles.push_back({a, b, c});
-    m.triangles.push_back({a, c, d});
-  };
-  quad(0, 2, 3, 1);  // z = lo, normal -z
-  quad(4, 5, 7, 6);  // z = hi, normal +z
-  quad(0, 1, 5, 4);  // y = lo, normal -y
-  quad(2, 6, 7, 3);  // y = hi, normal +y
-  quad(0, 4, 6, 2);  // x = lo, normal -x
-  quad(1, 3, 7, 5);  // x = hi, normal +x
-  return m;
-}
-
-vts::Mesh flipped(vts::Mesh m) {
-  for (auto& t : m.triangles) std::swap(t[1], t[2]);
-  return m;
-}
-
-}  // namespace
+using vts::test::box;
+using vts::test::flipped;
 
 TEST_CASE("mesh_orientation tells closed outward, closed inward and open meshes apart", "[mesh]") {
   const vts::Mesh cube = box({0, 0, 0}, {10, 20, 30});
