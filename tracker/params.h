@@ -124,6 +124,12 @@ struct FilletParams {
 struct CornerParams {
   Range angle_deg{60.0, 170.0};  // angle between the outer faces through the material
   Range gap_mm{0.0, 3.0};        // between the two plates' outer edges
+  // A shallow notch (within a rounding's reach behind the faces) whose
+  // flanks meet at a bottom, every column between the faces holding a kept
+  // point, is a closed corner's rounded or chamfered edges: read closed, at
+  // the faces' apex, alone (false: the closed and the open reading compete,
+  // the profile ambiguous when they lie apart).
+  bool closed_notch = true;
 };
 
 struct LapParams {

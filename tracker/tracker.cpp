@@ -1372,6 +1372,14 @@ class Matcher {
            pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
   }
 
+  // Every column strictly between columns a and b holds a kept point (none
+  // invalid, none removed as an outlier).
+  bool no_gone_between(int a, int b) const {
+    for (int col = a + 1; col < b; ++col)
+      if (s_.column_state[col] != kColumnKept) return false;
+    return true;
+  }
+
   // Some point of [from, to] lies off both lines (more than the tolerance).
   bool off_both(int from, int to, const Line& a, const Line& b) const {
     for (int i = from; i <= to; ++i)
@@ -1717,9 +1725,33 @@ class Matcher {
         // with the same lines: as strong as each other, the profile is
         // ambiguous (rejected), not read 1-2 mm below the apex.
         bool shallow = c.accepted && c.gap > 0.0 && from <= to;
-        for (int i = from; i <= to && shallow; ++i)
-          shallow = -std::max(a.line.signed_distance(pt(i)), b.line.signed_distance(pt(i))) <= kMaxRoundingMm;
-        offer(c);
+        int deepest = from;
+        double depth = -std::numeric_limits<double>::infinity();
+        for (int i = from; i <= to && shallow; ++i) {
+          const double d = -std::max(a.line.signed_distance(pt(i)), b.line.signed_distance(pt(i)));
+          shallow = d <= kMaxRoundingMm;
+          if (d > depth) depth = d, deepest = i;
+        }
+        // A shallow notch closed at its bottom, not on the end faces: every
+        // ray between the faces found the surface (no invalid column, no
+        // point removed), the deepest point has notch points on both sides,
+        // and most notch points lie off the open reading's end faces
+        // (square to the outer faces at the edges). A gap between the
+        // plates is a slot (rays into it go deep or find nothing, or, seen
+        // at a slant, show the far end face only) or a notch of square end
+        // faces running into each other; flanks meeting at a bottom off
+        // those faces are a closed corner's rounded or chamfered edges: the
+        // closed reading alone.
+        bool closed_bottom = cp.closed_notch && shallow && deepest > from && deepest < to &&
+                             no_gone_between(s_.cols[a.last], s_.cols[b.first]);
+        if (closed_bottom) {
+          const Line end_a{a.line.direction(), a.line.direction().dot(el.point)};
+          const Line end_b{b.line.direction(), b.line.direction().dot(er.point)};
+          int on_ends = 0;
+          for (int i = from; i <= to; ++i) on_ends += std::min(end_a.distance(pt(i)), end_b.distance(pt(i))) <= tol_;
+          closed_bottom = 2 * on_ends < to - from + 1;
+        }
+        if (!closed_bottom) offer(c);
         if (shallow) {
           Candidate closed = c;
           closed.gap = 0.0;
