@@ -1211,6 +1211,9 @@ class Matcher {
 
   // Rounded and chamfered edges are at most this wide (mm).
   static constexpr double kMaxRoundingMm = 3.0;
+  // A closed corner's faces are each this many times longer than its
+  // rounded or chamfered notch is wide.
+  static constexpr double kClosedNotchFaces = 3.0;
   struct Rounding {
     double along = 0.0;  // the farthest point's distance along the plate past its end (0: none)
     double depth = 0.0;  // its depth behind the plate's line
@@ -1654,9 +1657,14 @@ class Matcher {
     const CornerParams& cp = p_.corner;
     // The faces are neighbouring long segments, or have one or two between
     // them that continue neither (the notch of a gap, seen close up: the two
-    // end faces, each can be a long segment).
+    // end faces, each can be a long segment), or more, within two
+    // roundings' reach of each other, when they are a closed corner's notch
+    // (below: a rounded edge's arc cut in short pieces).
     for (int q = 0; q + 1 < n_long(); ++q) {
-      for (int q2 = q + 1; q2 <= std::min(q + 3, n_long() - 1); ++q2) {
+      for (int q2 = q + 1; q2 < n_long(); ++q2) {
+        const bool many = q2 > q + 3;
+        if (many && (!cp.closed_notch || (pt(seg(q2).first) - pt(seg(q).last)).norm() > 2.0 * kMaxRoundingMm))
+          break;
         bool notch = true;
         for (int m = q + 1; m < q2 && notch; ++m) notch = !continues_either(seg(m), q, q2);
         if (!notch) continue;
@@ -1724,7 +1732,7 @@ class Matcher {
         // nothing). Both readings then compete, the closed one at the apex,
         // with the same lines: as strong as each other, the profile is
         // ambiguous (rejected), not read 1-2 mm below the apex.
-        bool shallow = c.accepted && c.gap > 0.0 && from <= to;
+        bool shallow = c.gap > 0.0 && from <= to;
         int deepest = from;
         double depth = -std::numeric_limits<double>::infinity();
         for (int i = from; i <= to && shallow; ++i) {
@@ -1741,8 +1749,16 @@ class Matcher {
         // at a slant, show the far end face only) or a notch of square end
         // faces running into each other; flanks meeting at a bottom off
         // those faces are a closed corner's rounded or chamfered edges: the
-        // closed reading alone.
-        bool closed_bottom = cp.closed_notch && shallow && deepest > from && deepest < to &&
+        // closed reading alone, its notch explained as those edges. The
+        // faces must be plates, each kClosedNotchFaces times longer than the
+        // notch is wide (a rounding or a chamfer is small beside them); the
+        // notch may be wider than a gap's accept range (the closed reading
+        // has no gap).
+        const double notch_mm = (pt(b.first) - pt(a.last)).norm();
+        bool closed_bottom = cp.closed_notch && shallow && cp.angle_deg.contains(c.angle) && deepest > from &&
+                             deepest < to &&
+                             (pt(a.last) - pt(a.first)).norm() > kClosedNotchFaces * notch_mm &&
+                             (pt(b.last) - pt(b.first)).norm() > kClosedNotchFaces * notch_mm &&
                              no_gone_between(s_.cols[a.last], s_.cols[b.first]);
         if (closed_bottom) {
           const Line end_a{a.line.direction(), a.line.direction().dot(el.point)};
@@ -1751,15 +1767,27 @@ class Matcher {
           for (int i = from; i <= to; ++i) on_ends += std::min(end_a.distance(pt(i)), end_b.distance(pt(i))) <= tol_;
           closed_bottom = 2 * on_ends < to - from + 1;
         }
+        if (many && !closed_bottom) continue;
         if (!closed_bottom) offer(c);
-        if (shallow) {
+        shallow = shallow && c.accepted;
+        if (shallow || closed_bottom) {
           Candidate closed = c;
           closed.gap = 0.0;
           closed.edge_unc = closed.track_unc = 0.0;
           closed.track = closed.bp[1] = closed.bp[3] = pr->x;
           closed.track_cov = x_cov;
           closed.score = c.score - 1;
-          if (c.accepted) closed.evidence = weigh(c), closed.weighed = true;  // over the same points
+          if (closed_bottom) {
+            // The notch is the closed reading's own: its rounded or
+            // chamfered edges, between the faces' ends and behind both.
+            const Vec2 across = (er.point - el.point).normalized();
+            closed.open_joint = true;
+            closed.opening = {el.point, er.point, across, -across, tol_, tol_};
+            closed.n_more = 0;
+            closed.accepted = true, closed.failed = {};
+          } else if (c.accepted) {
+            closed.evidence = weigh(c), closed.weighed = true;  // over the same points
+          }
           offer(closed);
         }
       }
