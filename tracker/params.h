@@ -144,6 +144,12 @@ struct LapParams {
   // line (noise can cut a plate in pieces; the piece at the step alone can be
   // several degrees off and fail the parallel test), as butt plates are.
   bool extend_plates = true;
+  // The reading's evidence (Matcher::weigh) takes each plate on its own
+  // line: an upper plate resting on its edge (on a bead, a burr, a gap at
+  // one side) lies 0.5-3 degrees off the lower one, tens of microns off a
+  // parallel line within 10 mm, which then left its points unexplained or
+  // the plate "curved". false: one direction for both, as the butt's.
+  bool tilted_upper = true;
   // The edge face is fitted to the points between the plates that lie on
   // neither line, short of the points next to the upper plate that it
   // reaches over (on its line, as a butt plate reaches): noise cuts the upper

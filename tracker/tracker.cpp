@@ -1930,7 +1930,9 @@ class Matcher {
         c.bp[3] = top;
         c.bp[4] = outer(upper, pt(u_out));
         c.score = std::min(a.count(), b.count());
-        c.pa = a, c.pb = b, c.parallel = true;
+        // (Weighed on the plates' own lines, unless held parallel: an upper
+        // plate resting on its edge lies off parallel.)
+        c.pa = a, c.pb = b, c.parallel = !lp.tilted_upper;
         if (wall) c.add_line(wall->line);
         c.accepted = check(c, "step", c.step, lp.step_mm, "mm") && check(c, "gap", c.gap, lp.gap_mm, "mm") &&
                      check(c, "angle", c.angle, lp.angle_deg, "deg");

@@ -46,7 +46,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {1, 0.93}},   {tk::JointType::Corner, {6, 0.59}},
-      {tk::JointType::Lap, {0, 0.58}},      {tk::JointType::Butt, {13, 0.73}},
+      {tk::JointType::Lap, {0, 0.65}},      {tk::JointType::Butt, {13, 0.73}},
       {tk::JointType::VGroove, {39, 0.71}},
   };
   for (const auto& [joint, limit] : limits) {
@@ -212,6 +212,25 @@ TEST_CASE("corpus: a closed corner's wide or finely cut notch is read at the ape
     tk::TrackerParams off;
     off.corner.closed_notch = false;
     CHECK(read_one(vc::Joint::Corner, seed, kIdealLevel, off).result.status == tk::TrackStatus::Rejected);
+  }
+}
+
+TEST_CASE("corpus: a lap's upper plate resting on its edge, off parallel", "[tracker][corpus]") {
+  // Development seeds, geometry only: the upper plate tilted 0.5-3 degrees
+  // (the corpus' `tilt`), read within 0.1 mm, were rejected as
+  // "unexplained" (its points 0.02-0.04 mm off the line parallel to the
+  // lower plate's, over the surface tolerance's floor of 0.02 mm). Weighed on
+  // the plates' own lines (LapParams::tilted_upper) they are right; held
+  // parallel, rejected.
+  for (const std::uint64_t seed : {8u, 11u, 17u}) {
+    const ReadOne one = read_one(vc::Joint::Lap, seed, kIdealLevel);
+    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
+                 << one.scored.track_error_mm);
+    CHECK(one.profile.truth.has_tag("tilt"));
+    CHECK(one.scored.outcome == tk::Outcome::Right);
+    tk::TrackerParams parallel;
+    parallel.lap.tilted_upper = false;
+    CHECK(read_one(vc::Joint::Lap, seed, kIdealLevel, parallel).result.status == tk::TrackStatus::Rejected);
   }
 }
 
