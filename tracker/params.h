@@ -87,6 +87,10 @@ struct SegmentationParams {
 enum class WebSide { Auto, First, Second };
 
 struct FilletParams {
+  // The plates are also paired across one short segment between them at
+  // the root that continues neither (a web's rounded or chamfered bottom
+  // edge). false: neighbouring long segments only.
+  bool across_edge = true;
   Range angle_deg{45.0, 135.0};  // angle between the plates on the open side
   Range gap_mm{0.0, 3.0};        // true gap: web edge to flange
   WebSide web = WebSide::Auto;

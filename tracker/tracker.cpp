@@ -1552,10 +1552,18 @@ class Matcher {
   void fillet() {
     const FilletParams& fp = p_.fillet;
     for (int q = 0; q + 1 < n_long(); ++q) {
+     for (int q2 = q + 1; q2 <= std::min(q + (fp.across_edge ? 2 : 1), n_long() - 1); ++q2) {
+      // Or across one short segment at the root that continues neither
+      // plate, within a rounding's reach of both plates' ends: a web's
+      // rounded or chamfered bottom edge (its arc, set back from the web's
+      // face line, is a segment of its own).
+      if (q2 > q + 1 && (continues_either(seg(q + 1), q, q2) ||
+                         (pt(seg(q2).first) - pt(seg(q).last)).norm() > 2.0 * kMaxRoundingMm))
+        continue;
       // Each plate over the long segments beyond it that continue its line
       // (noise can cut a plate in pieces; the short piece at the root alone
       // gives a wrong angle).
-      auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q + 1, +1)) : pair(q);
+      auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q2, +1)) : pair(q);
       if (!pr || !pr->valley) continue;
       // Either plate may be a gentle arc near the root (a pipe's section).
       pr = bent(*pr);
@@ -1650,6 +1658,7 @@ class Matcher {
       c.pa = a, c.pb = b;
       c.accepted = check(c, "angle", c.angle, fp.angle_deg, "deg") && check(c, "gap", c.gap, fp.gap_mm, "mm");
       offer(c);
+     }
     }
   }
 

@@ -45,7 +45,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const tk::ScoreTable table = run(o);
   WARN("\n" << table.markdown());
   const std::map<tk::JointType, Limit> limits = {
-      {tk::JointType::Fillet, {1, 0.93}},   {tk::JointType::Corner, {6, 0.59}},
+      {tk::JointType::Fillet, {0, 0.96}},   {tk::JointType::Corner, {6, 0.59}},
       {tk::JointType::Lap, {0, 0.65}},      {tk::JointType::Butt, {13, 0.73}},
       {tk::JointType::VGroove, {39, 0.71}},
   };
@@ -231,6 +231,26 @@ TEST_CASE("corpus: a lap's upper plate resting on its edge, off parallel", "[tra
     tk::TrackerParams parallel;
     parallel.lap.tilted_upper = false;
     CHECK(read_one(vc::Joint::Lap, seed, kIdealLevel, parallel).result.status == tk::TrackStatus::Rejected);
+  }
+}
+
+TEST_CASE("corpus: a fillet's web with a rounded or chamfered bottom edge", "[tracker][corpus]") {
+  // Development seeds, geometry only, rejected as "unexplained" before:
+  // the web's rounded (52, 56) or chamfered (63, 225) bottom edge is a short
+  // segment of its own between the web and the flange, and only
+  // neighbouring segments were paired (the edge's arc with the flange, the
+  // web's points then unexplained). Paired across it
+  // (FilletParams::across_edge) the root is read within 0.005 mm of the
+  // truth (flange line x the web's open face line); with it off, rejected.
+  for (const std::uint64_t seed : {52u, 56u, 63u, 225u}) {
+    const ReadOne one = read_one(vc::Joint::Fillet, seed, kIdealLevel);
+    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
+                 << one.scored.track_error_mm);
+    CHECK(one.scored.outcome == tk::Outcome::Right);
+    CHECK(one.scored.track_error_mm < 0.005);
+    tk::TrackerParams off;
+    off.fillet.across_edge = false;
+    CHECK(read_one(vc::Joint::Fillet, seed, kIdealLevel, off).result.status == tk::TrackStatus::Rejected);
   }
 }
 
