@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <tuple>
@@ -33,6 +34,21 @@ void check_tack_rejected(vc::Joint joint, const std::pair<std::uint64_t, double>
     CHECK(one.profile.truth.has_tag("tack_weld"));
     CHECK(one.profile.truth.has_tag("joint_hidden"));
     CHECK(one.result.status == tk::TrackStatus::Rejected);
+  }
+}
+
+// Each development profile (seed, geometry only) of `joint` reads right,
+// within `max_error_mm`, with the default parameters, and with the option
+// under test off (`off`) reads as `outcome_off`.
+void check_right_with_option(vc::Joint joint, std::initializer_list<std::uint64_t> seeds, double max_error_mm,
+                             const tk::TrackerParams& off, tk::Outcome outcome_off) {
+  for (const std::uint64_t seed : seeds) {
+    const ReadOne one = read_one(joint, seed, kIdealLevel);
+    INFO(vc::joint_name(joint) << " seed " << seed << ": " << tk::to_string(one.result.status) << " "
+                               << one.result.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.scored.outcome == tk::Outcome::Right);
+    CHECK(one.scored.track_error_mm < max_error_mm);
+    CHECK(read_one(joint, seed, kIdealLevel, off).scored.outcome == outcome_off);
   }
 }
 
@@ -181,19 +197,11 @@ TEST_CASE("corpus: a shallow notch closed at its bottom is read at the apex", "[
   // on the surface and the notch's flanks meeting at a bottom. The open
   // reading put the track point between the notch's edges, 0.14-0.82 mm
   // below the apex, at confidence 1 (imprecise); the closed reading is the
-  // truth (JointTruth: B1 = B3 = the apex) within 0.001 mm.
-  for (const std::uint64_t seed : {2u, 14u, 30u, 69u, 80u}) {
-    const ReadOne one = read_one(vc::Joint::Corner, seed, kIdealLevel);
-    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
-                 << one.scored.track_error_mm);
-    CHECK(one.scored.outcome == tk::Outcome::Right);
-    CHECK(one.scored.track_error_mm < 0.001);
-    CHECK(one.result.gap_mm == 0.0);
-    tk::TrackerParams off;
-    off.corner.closed_notch = false;
-    const ReadOne before = read_one(vc::Joint::Corner, seed, kIdealLevel, off);
-    CHECK(before.scored.outcome == tk::Outcome::Imprecise);
-  }
+  // truth (JointTruth: B1 = B3 = the apex) within 0.001 mm, gap 0.
+  tk::TrackerParams off;
+  off.corner.closed_notch = false;
+  check_right_with_option(vc::Joint::Corner, {2, 14, 30, 69, 80}, 0.001, off, tk::Outcome::Imprecise);
+  CHECK(read_one(vc::Joint::Corner, 2, kIdealLevel).result.gap_mm == 0.0);
 }
 
 TEST_CASE("corpus: a closed corner's wide or finely cut notch is read at the apex", "[tracker][corpus]") {
@@ -203,35 +211,23 @@ TEST_CASE("corpus: a closed corner's wide or finely cut notch is read at the ape
   // more than two pieces (9, 13). The closed reading explains its notch
   // (the edges' rounding or chamfer) and is right within 0.002 mm; with
   // CornerParams::closed_notch off they are rejected again.
-  for (const std::uint64_t seed : {9u, 10u, 13u}) {
-    const ReadOne one = read_one(vc::Joint::Corner, seed, kIdealLevel);
-    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
-                 << one.scored.track_error_mm);
-    CHECK(one.scored.outcome == tk::Outcome::Right);
-    CHECK(one.scored.track_error_mm < 0.002);
-    tk::TrackerParams off;
-    off.corner.closed_notch = false;
-    CHECK(read_one(vc::Joint::Corner, seed, kIdealLevel, off).result.status == tk::TrackStatus::Rejected);
-  }
+  tk::TrackerParams off;
+  off.corner.closed_notch = false;
+  check_right_with_option(vc::Joint::Corner, {9, 10, 13}, 0.002, off, tk::Outcome::Rejected);
 }
 
 TEST_CASE("corpus: a lap's upper plate resting on its edge, off parallel", "[tracker][corpus]") {
-  // Development seeds, geometry only: the upper plate tilted 0.5-3 degrees
+  // Development seeds, geometry only, the upper plate tilted 0.5-3 degrees
   // (the corpus' `tilt`), read within 0.1 mm, were rejected as
   // "unexplained" (its points 0.02-0.04 mm off the line parallel to the
   // lower plate's, over the surface tolerance's floor of 0.02 mm). Weighed on
   // the plates' own lines (LapParams::tilted_upper) they are right; held
   // parallel, rejected.
-  for (const std::uint64_t seed : {8u, 11u, 17u}) {
-    const ReadOne one = read_one(vc::Joint::Lap, seed, kIdealLevel);
-    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
-                 << one.scored.track_error_mm);
-    CHECK(one.profile.truth.has_tag("tilt"));
-    CHECK(one.scored.outcome == tk::Outcome::Right);
-    tk::TrackerParams parallel;
-    parallel.lap.tilted_upper = false;
-    CHECK(read_one(vc::Joint::Lap, seed, kIdealLevel, parallel).result.status == tk::TrackStatus::Rejected);
-  }
+  for (const std::uint64_t seed : {8u, 11u, 17u})
+    CHECK(read_one(vc::Joint::Lap, seed, kIdealLevel).profile.truth.has_tag("tilt"));
+  tk::TrackerParams parallel;
+  parallel.lap.tilted_upper = false;
+  check_right_with_option(vc::Joint::Lap, {8, 11, 17}, 0.1, parallel, tk::Outcome::Rejected);
 }
 
 TEST_CASE("corpus: a fillet's web with a rounded or chamfered bottom edge", "[tracker][corpus]") {
@@ -242,16 +238,9 @@ TEST_CASE("corpus: a fillet's web with a rounded or chamfered bottom edge", "[tr
   // web's points then unexplained). Paired across it
   // (FilletParams::across_edge) the root is read within 0.005 mm of the
   // truth (flange line x the web's open face line); with it off, rejected.
-  for (const std::uint64_t seed : {52u, 56u, 63u, 225u}) {
-    const ReadOne one = read_one(vc::Joint::Fillet, seed, kIdealLevel);
-    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
-                 << one.scored.track_error_mm);
-    CHECK(one.scored.outcome == tk::Outcome::Right);
-    CHECK(one.scored.track_error_mm < 0.005);
-    tk::TrackerParams off;
-    off.fillet.across_edge = false;
-    CHECK(read_one(vc::Joint::Fillet, seed, kIdealLevel, off).result.status == tk::TrackStatus::Rejected);
-  }
+  tk::TrackerParams off;
+  off.fillet.across_edge = false;
+  check_right_with_option(vc::Joint::Fillet, {52, 56, 63, 225}, 0.005, off, tk::Outcome::Rejected);
 }
 
 TEST_CASE("corpus: grooves whose track point was read off the bottom", "[tracker][corpus][groove]") {
