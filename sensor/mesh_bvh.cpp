@@ -43,6 +43,22 @@ inline bool any_lane(const Int8& m) {
 #endif
 }
 
+// Four floats: the lanes of crossing_planes' float filter.
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = std::int32_t __attribute__((vector_size(16)));
+
+inline bool any_lane4(const Int4& m) {
+#if defined(__SSE2__)
+  __m128 v;
+  std::memcpy(&v, &m, sizeof v);
+  return _mm_movemask_ps(v) != 0;
+#else
+  std::int32_t any = 0;
+  for (int l = 0; l < 4; ++l) any |= m[l];
+  return any != 0;
+#endif
+}
+
 // Per lane: mask ? a : b (as bits: GCC scalarizes the vector ?: here).
 inline void select(const Int8& mask, float a, float b, Float8& out) {
   const Int8 ia = reinterpret_cast<Int8>(Float8{} + a), ib = reinterpret_cast<Int8>(Float8{} + b);
@@ -239,6 +255,7 @@ MeshBvh::Facing MeshBvh::facing_of(const Box3& box) const {
   return !(best < -margin);  // NaN: kept
 }
 
+VTS_SIMD_CLONES
 void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> d,
                               const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi,
                               double tol_mm, std::span<std::vector<std::uint32_t>> out,
@@ -262,8 +279,32 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
   const double mid = 0.5 * (d_min + d_max), half = 0.5 * (d_max - d_min) + tol_mm;
   const Eigen::Vector3d an = n.cwiseAbs();
   const Facing face = facing ? facing_of(*facing) : Facing{};
+  // A float filter before the exact leaf test, in the lanes of 4-float
+  // vectors: the slab's two sides (n . p >= d_min - tol, n . p <= d_max +
+  // tol) and up to two `keep` half-spaces, each made more inclusive by a
+  // bound on the float rounding (as in inside_planes). A triangle with all
+  // corners outside one lane's plane fails the exact test too, so dropping
+  // it here changes nothing; the rest go on to the exact test. Only for a
+  // thin slab (a few planes: most triangles of the leaves it reaches lie
+  // outside it); a block of 16 parallel planes keeps most of them, and
+  // the filter would only add its cost (callgrind, docs/PERFORMANCE.md).
+  Float4 fx{}, fy{}, fz{}, fw{};
+  for (int l = 0; l < 4; ++l) fw[l] = 1.0f;
+  const bool prefilter = count <= 4 && keep.size() <= 2;
+  if (prefilter) {
+    auto lane = [&](int l, double x, double y, double z, double w) {
+      const double bound = std::abs(w) + (std::abs(x) + std::abs(y) + std::abs(z)) * max_abs_coord_;
+      fx[l] = static_cast<float>(x);
+      fy[l] = static_cast<float>(y);
+      fz[l] = static_cast<float>(z);
+      fw[l] = static_cast<float>(w + 16.0 * 0x1p-24 * bound);
+    };
+    lane(0, n[0], n[1], n[2], tol_mm - d_min);
+    lane(1, -n[0], -n[1], -n[2], d_max + tol_mm);
+    for (std::size_t l = 0; l < keep.size(); ++l) lane(2 + int(l), keep[l][0], keep[l][1], keep[l][2], keep[l][3]);
+  }
   walk(
-      [&](const Node& node) {
+      [&](const Node& node) __attribute__((always_inline)) {
         double centre = 0.0, extent = 0.0;
         for (int k = 0; k < 3; ++k) {
           if (node.lo[k] > box_hi[k] || node.hi[k] < box_lo[k]) return false;
@@ -281,8 +322,14 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
         }
         return !facing || node_may_face(static_cast<std::uint32_t>(&node - nodes_.data()), face);
       },
-      [&](std::uint32_t i) {
+      [&](std::uint32_t i) __attribute__((always_inline)) {
         const auto& c = corners_[i];
+        if (prefilter) {
+          const Float4 d0 = fw + fx * c[0] + fy * c[1] + fz * c[2];
+          const Float4 d1 = fw + fx * c[3] + fy * c[4] + fz * c[5];
+          const Float4 d2 = fw + fx * c[6] + fy * c[7] + fz * c[8];
+          if (any_lane4((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) return;
+        }
         double lo = INFINITY, hi = -INFINITY;
         for (int v = 0; v < 3; ++v) {
           const double s = n[0] * c[3 * v] + n[1] * c[3 * v + 1] + n[2] * c[3 * v + 2];
