@@ -218,6 +218,44 @@ int float_filter(const float* __restrict dx, const float* __restrict dy, const f
   return any;
 }
 
+// The exact camera-shadow test (ShadowTester::crosses) of the sight lines
+// j in [j0, j1) against one triangle, OR-ed into hidden[j]: four sight
+// lines at a time in vectors of four doubles (cloned like float_filter; the
+// arrays hold three more entries past the last), with the dot products
+// summed in the order Eigen's take them ((x + y) + z), so every answer is
+// crosses()'s, bit for bit.
+using Double4 = double __attribute__((vector_size(32)));
+using Long4 = std::int64_t __attribute__((vector_size(32)));
+VTS_SIMD_CLONES
+void exact_crosses(int j0, int j1, const double* __restrict dx, const double* __restrict dy,
+                   const double* __restrict dz, const double* __restrict tmax, const std::array<double, 10> k,
+                   int* __restrict hidden) {
+  const double ax = k[0], ay = k[1], az = k[2], bx = k[3], by = k[4], bz = k[5];
+  const double qx = k[6], qy = k[7], qz = k[8], tq = k[9];
+  // (Filled through a reference: GCC warns that returning them by value
+  // changes with AVX.)
+  auto load = [](const double* p, Double4& v) { std::memcpy(&v, p, sizeof v); };
+  const Double4 one = Double4{} + 1.0, zero = Double4{};
+  for (int j = j0; j < j1; j += 4) {
+    Double4 x, y, z, tm;
+    load(dx + j, x);
+    load(dy + j, y);
+    load(dz + j, z);
+    load(tmax + j, tm);
+    const Double4 sdet = (x * ax + y * ay) + z * az;
+    const Long4 neg = sdet < zero;
+    const Double4 sign = reinterpret_cast<Double4>((neg & reinterpret_cast<Long4>(-one)) |
+                                                   (~neg & reinterpret_cast<Long4>(one)));
+    const Double4 det = sdet * sign;
+    const Double4 un = ((x * bx + y * by) + z * bz) * sign;
+    const Double4 vn = ((x * qx + y * qy) + z * qz) * sign;
+    const Double4 tn = tq * sign;
+    const Long4 hit = (det > zero) & (un >= zero) & (vn >= zero) & (un + vn <= det) & (tn > zero) & (tn < det * tm);
+    const int lanes = std::min(4, j1 - j);
+    for (int l = 0; l < lanes; ++l) hidden[j + l] |= int(hit[l] & 1);
+  }
+}
+
 // Cutting a triangle with a profile's laser plane x = 0 (sensor frame):
 // Worker::pass cuts a profile's triangles in batches with cut_triangles and
 // hands those with a corner exactly on the plane to Worker::slice. Both take
@@ -413,7 +451,10 @@ class ShadowTester {
     hidden_.resize(n);
     maybe_.resize(n);
     d_.resize(n);
-    tmax_d_.resize(n);
+    dxd_.resize(n + 3);  // exact_crosses reads up to three past the last
+    dyd_.resize(n + 3);
+    dzd_.resize(n + 3);
+    tmax_d_.resize(n + 3);
     image_col_.resize(n);
     for (auto* v : {&all_zc_, &all_q_, &all_image_col_, &all_wx_, &all_wy_, &all_wz_, &all_tmax_}) v->resize(n);
     lit_before_.resize(n);
@@ -447,6 +488,9 @@ class ShadowTester {
       // The candidates are tested in the mesh-centred world frame, where
       // the hierarchy keeps their corners: no transform per candidate.
       d_[m] = Eigen::Vector3d(all_wx_[i], all_wy_[i], all_wz_[i]);
+      dxd_[m] = all_wx_[i];
+      dyd_[m] = all_wy_[i];
+      dzd_[m] = all_wz_[i];
       dx_[m] = static_cast<float>(all_wx_[i]);
       dy_[m] = static_cast<float>(all_wy_[i]);
       dz_[m] = static_cast<float>(all_wz_[i]);
@@ -610,8 +654,8 @@ class ShadowTester {
       for (int j = j0; j < j1; ++j)
         if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
     } else {
-      for (int j = j0; j < j1; ++j)
-        if (!hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+      exact_crosses(j0, j1, dxd_.data(), dyd_.data(), dzd_.data(), tmax_d_.data(),
+                    {av.x(), av.y(), av.z(), bv.x(), bv.y(), bv.z(), qv.x(), qv.y(), qv.z(), tq}, hidden_.data());
     }
   }
 
@@ -650,6 +694,7 @@ class ShadowTester {
   std::vector<int> hidden_, maybe_;
   std::vector<Eigen::Vector3d> d_;  // sight lines, world frame, double
   std::vector<double> tmax_d_;      // tmax_ in double
+  std::vector<double> dxd_, dyd_, dzd_;  // d_ by coordinate (exact_crosses)
   std::vector<double> image_col_;   // y'/z': grows with the column
   std::vector<int> lit_before_;  // per column: lit points in front of the camera before it
   double cos_theta_ = 1.0;        // z' . z: image column y'/z' = t / cos_theta on the laser plane
