@@ -59,6 +59,18 @@ inline bool any_lane4(const Int4& m) {
 #endif
 }
 
+inline bool all_lanes4(const Int4& m) {
+#if defined(__SSE2__)
+  __m128 v;
+  std::memcpy(&v, &m, sizeof v);
+  return _mm_movemask_ps(v) == 0xf;
+#else
+  std::int32_t all = -1;
+  for (int l = 0; l < 4; ++l) all &= m[l];
+  return all == -1;
+#endif
+}
+
 // Per lane: mask ? a : b (as bits: GCC scalarizes the vector ?: here).
 inline void select(const Int8& mask, float a, float b, Float8& out) {
   const Int8 ia = reinterpret_cast<Int8>(Float8{} + a), ib = reinterpret_cast<Int8>(Float8{} + b);
@@ -288,7 +300,13 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
   // thin slab (a few planes: most triangles of the leaves it reaches lie
   // outside it); a block of 16 parallel planes keeps most of them, and
   // the filter would only add its cost (callgrind, docs/PERFORMANCE.md).
-  Float4 fx{}, fy{}, fz{}, fw{};
+  //
+  // The float value of a lane differs from the exact n . p + w plus the
+  // widening m by less than m / 2, so a corner scoring 3 m or more lies
+  // inside that half-space by more than m: with a single plane, a triangle
+  // with such a corner in every lane passes the exact slab and `keep` tests
+  // (which are then skipped), only the facing test is left.
+  Float4 fx{}, fy{}, fz{}, fw{}, clear{};
   for (int l = 0; l < 4; ++l) fw[l] = 1.0f;
   const bool prefilter = count <= 4 && keep.size() <= 2;
   if (prefilter) {
@@ -298,6 +316,7 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
       fy[l] = static_cast<float>(y);
       fz[l] = static_cast<float>(z);
       fw[l] = static_cast<float>(w + 16.0 * 0x1p-24 * bound);
+      clear[l] = static_cast<float>(3.0 * 16.0 * 0x1p-24 * bound);
     };
     lane(0, n[0], n[1], n[2], tol_mm - d_min);
     lane(1, -n[0], -n[1], -n[2], d_max + tol_mm);
@@ -329,6 +348,11 @@ void MeshBvh::crossing_planes(const Eigen::Vector3d& n, std::span<const double> 
           const Float4 d1 = fw + fx * c[3] + fy * c[4] + fz * c[5];
           const Float4 d2 = fw + fx * c[6] + fy * c[7] + fz * c[8];
           if (any_lane4((d0 < 0.0f) & (d1 < 0.0f) & (d2 < 0.0f))) return;
+          if (count == 1 && all_lanes4((d0 >= clear) | (d1 >= clear) | (d2 >= clear))) {
+            if (facing && !may_face(i, face)) return;
+            out[sorted[0].second].push_back(i);
+            return;
+          }
         }
         double lo = INFINITY, hi = -INFINITY;
         for (int v = 0; v < 3; ++v) {
