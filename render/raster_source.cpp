@@ -450,7 +450,6 @@ class ShadowTester {
     tmax_.resize(n);
     hidden_.resize(n);
     maybe_.resize(n);
-    d_.resize(n);
     dxd_.resize(n + 3);  // exact_crosses reads up to three past the last
     dyd_.resize(n + 3);
     dzd_.resize(n + 3);
@@ -487,7 +486,6 @@ class ShadowTester {
       image_col_[m] = all_image_col_[i];
       // The candidates are tested in the mesh-centred world frame, where
       // the hierarchy keeps their corners: no transform per candidate.
-      d_[m] = Eigen::Vector3d(all_wx_[i], all_wy_[i], all_wz_[i]);
       dxd_[m] = all_wx_[i];
       dyd_[m] = all_wy_[i];
       dzd_[m] = all_wz_[i];
@@ -513,12 +511,12 @@ class ShadowTester {
       double dev = 0.0;
       int far = a;
       if (b > a) {
-        sheet = d_[b].cross(d_[a]);
+        sheet = d(b).cross(d(a));
         const double len = sheet.norm();
         if (len > 0.0) {
           sheet /= len;
           for (int j = a; j <= b; ++j) {
-            const double e = std::abs(sheet.dot(d_[j]));
+            const double e = std::abs(sheet.dot(d(j)));
             if (e > dev) {
               dev = e;
               far = j;
@@ -652,7 +650,11 @@ class ShadowTester {
                                    {ax, ay, az, bx, by, bz, qx, qy, qz, tqf}, maybe_.data());
       if (!any) return;
       for (int j = j0; j < j1; ++j)
-        if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d_[j], av, bv, qv, tq, tmax_d_[j]);
+        if (maybe_[j] && !hidden_[j]) hidden_[j] = crosses(d(j), av, bv, qv, tq, tmax_d_[j]);
+    } else if (j1 - j0 <= 2) {
+      // One or two: the call would cost more than the tests.
+      for (int j = j0; j < j1; ++j)
+        if (!hidden_[j]) hidden_[j] = crosses(d(j), av, bv, qv, tq, tmax_d_[j]);
     } else {
       exact_crosses(j0, j1, dxd_.data(), dyd_.data(), dzd_.data(), tmax_d_.data(),
                     {av.x(), av.y(), av.z(), bv.x(), bv.y(), bv.z(), qv.x(), qv.y(), qv.z(), tq}, hidden_.data());
@@ -692,9 +694,9 @@ class ShadowTester {
   std::vector<int> column_;
   std::vector<float> dx_, dy_, dz_, tmax_;  // sight line and tmax, float
   std::vector<int> hidden_, maybe_;
-  std::vector<Eigen::Vector3d> d_;  // sight lines, world frame, double
   std::vector<double> tmax_d_;      // tmax_ in double
-  std::vector<double> dxd_, dyd_, dzd_;  // d_ by coordinate (exact_crosses)
+  std::vector<double> dxd_, dyd_, dzd_;  // sight lines, world frame, double, by coordinate
+  Eigen::Vector3d d(int j) const { return Eigen::Vector3d(dxd_[j], dyd_[j], dzd_[j]); }
   std::vector<double> image_col_;   // y'/z': grows with the column
   std::vector<int> lit_before_;  // per column: lit points in front of the camera before it
   double cos_theta_ = 1.0;        // z' . z: image column y'/z' = t / cos_theta on the laser plane
