@@ -262,6 +262,12 @@ struct VGrooveParams {
   // tolerance in front of the root edges' line are something in the root
   // (a tack weld, a bead): the reading is rejected as `uncertain`.
   bool check_root_cover = true;
+  // A bevel's points past the crossing of the bevels' lines that lie on its
+  // own line and off the other's are kept (Matcher::trimmed): with a
+  // mismatch and a root face, the lower bevel goes on below that crossing
+  // to its root edge. false: trimmed, the root edge put where the crossing
+  // left the bevel.
+  bool keep_past_crossing = true;
   double root_cover_share = 0.5;
   int root_cover_points = 5;
   double root_bump_t = 4.0;

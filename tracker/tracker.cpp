@@ -3520,10 +3520,26 @@ class Matcher {
   // of another surface that happens to lie on a line's extension, or a plate
   // seen past the other's edge) is refitted without them; then the plates do
   // not meet at x, so there is a gap or step between them.
-  std::optional<Pair> trimmed(const Pair& pr) const {
+  // With `keep_own`, a plate's end points past x are kept when every one
+  // lies on its own line and at least kMinPlateRun of them off the other's
+  // (near x a point lies on both): the plate goes on past the crossing (a v-groove's lower
+  // bevel below the crossing of the bevels' lines, where the other plate's
+  // root face stands: a mismatch with a root face), not one stray point.
+  std::optional<Pair> trimmed(const Pair& pr, bool keep_own = false) const {
     int a_last = pr.a.last, b_first = pr.b.first;
     while (a_last > pr.a.first + 1 && (pt(a_last) - pr.x).dot(pr.ua) < -tol_) --a_last;
     while (b_first < pr.b.last - 1 && (pt(b_first) - pr.x).dot(pr.ub) < -tol_) ++b_first;
+    auto own = [&](int from, int to, const Plate& self, const Plate& other) {
+      if (!keep_own) return false;
+      int off_other = 0;
+      for (int i = from; i <= to; ++i) {
+        if (self.line.distance(pt(i)) > tol_) return false;
+        off_other += other.line.distance(pt(i)) > tol_;
+      }
+      return off_other >= kMinPlateRun;
+    };
+    if (own(a_last + 1, pr.a.last, pr.a, pr.b)) a_last = pr.a.last;
+    if (own(pr.b.first, b_first - 1, pr.b, pr.a)) b_first = pr.b.first;
     if (a_last == pr.a.last && b_first == pr.b.first) return pr;
     const auto a = plate_of(pr.a.first, a_last), b = plate_of(b_first, pr.b.last);
     if (!a || !b) return std::nullopt;
@@ -3628,7 +3644,7 @@ class Matcher {
       if (!j_short) j1 = grow(j, +1, pj);
       auto pr = pair_of(*pi, *pj);
       if (!pr || !pr->valley) return;
-      pr = trimmed(*pr);
+      pr = trimmed(*pr, p_.vgroove.keep_past_crossing);
       if (!pr || !pr->valley) return;
       const Plate& bl = pr->a;
       const Plate& br = pr->b;

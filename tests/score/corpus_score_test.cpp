@@ -63,7 +63,7 @@ TEST_CASE("corpus: the tracker's scores do not get worse", "[tracker][corpus]") 
   const std::map<tk::JointType, Limit> limits = {
       {tk::JointType::Fillet, {0, 0.96}},   {tk::JointType::Corner, {6, 0.59}},
       {tk::JointType::Lap, {0, 0.65}},      {tk::JointType::Butt, {13, 0.73}},
-      {tk::JointType::VGroove, {39, 0.71}},
+      {tk::JointType::VGroove, {37, 0.74}},
   };
   for (const auto& [joint, limit] : limits) {
     const tk::Tally t = table.total(joint);
@@ -241,6 +241,18 @@ TEST_CASE("corpus: a fillet's web with a rounded or chamfered bottom edge", "[tr
   tk::TrackerParams off;
   off.fillet.across_edge = false;
   check_right_with_option(vc::Joint::Fillet, {52, 56, 63, 225}, 0.005, off, tk::Outcome::Rejected);
+}
+
+TEST_CASE("corpus: a v-groove's lower bevel reaches past the crossing of the bevels' lines", "[tracker][corpus]") {
+  // Development seeds, geometry only, a mismatch with a root face: the lower
+  // plate's bevel goes on below where the two bevels' lines cross (the
+  // other plate's root face stands there). Its points past the crossing
+  // were trimmed off as another surface's, and its root edge put up to
+  // 0.5 mm up the bevel (imprecise, 0.26-0.48 mm). Kept
+  // (VGrooveParams::keep_past_crossing), the track point is within 0.06 mm.
+  tk::TrackerParams off;
+  off.vgroove.keep_past_crossing = false;
+  check_right_with_option(vc::Joint::VGroove, {13, 18, 19, 30, 78}, 0.06, off, tk::Outcome::Imprecise);
 }
 
 TEST_CASE("corpus: grooves whose track point was read off the bottom", "[tracker][corpus][groove]") {
