@@ -1550,116 +1550,119 @@ class Matcher {
   }
 
   void fillet() {
-    const FilletParams& fp = p_.fillet;
     for (int q = 0; q + 1 < n_long(); ++q) {
-     for (int q2 = q + 1; q2 <= std::min(q + (fp.across_edge ? 2 : 1), n_long() - 1); ++q2) {
+      fillet_pair(q, q + 1);
       // Or across one short segment at the root that continues neither
       // plate, within a rounding's reach of both plates' ends: a web's
       // rounded or chamfered bottom edge (its arc, set back from the web's
       // face line, is a segment of its own).
-      if (q2 > q + 1 && (continues_either(seg(q + 1), q, q2) ||
-                         (pt(seg(q2).first) - pt(seg(q).last)).norm() > 2.0 * kMaxRoundingMm))
-        continue;
-      // Each plate over the long segments beyond it that continue its line
-      // (noise can cut a plate in pieces; the short piece at the root alone
-      // gives a wrong angle).
-      auto pr = p_.fillet.extend_plates ? pair_of(extended(q, -1), extended(q2, +1)) : pair(q);
-      if (!pr || !pr->valley) continue;
-      // Either plate may be a gentle arc near the root (a pipe's section).
-      pr = bent(*pr);
-      if (!pr->valley) continue;
-      const Plate& a = pr->a;
-      const Plate& b = pr->b;
-      // A gap shows as the flange seen beyond the web's line, under its edge.
-      // The points seen there can be few and off the line of their neighbours
-      // (removed as an outlier cluster): those on the flange's line count too.
-      int a_end_col = s_.cols[a.last], b_end_col = s_.cols[b.first];
-      Vec2 a_end_pt = pt(a.last), b_end_pt = pt(b.first);
-      bool a_past = beyond(a, a.last, b.line);
-      bool b_past = beyond(b, b.first, a.line);
-      {
-        // A point on a plate's line beyond the other's moves that plate's end
-        // there: a's to the last such point in column order, b's to the first.
-        auto consider = [&](const Vec2& o, int col) {
-          if (col > a_end_col && a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
-            a_past = true;
-            a_end_col = col, a_end_pt = o;
-          }
-          if (col < b_end_col && b.line.distance(o) <= tol_ && beyond_line(b.centroid, o, a.line)) {
-            b_past = true;
-            b_end_col = col, b_end_pt = o;
-          }
-        };
-        const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
-        const std::size_t off =
-            removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
-        for (std::size_t k = 0; k < removed.size(); ++k) consider(removed[k], s_.outlier_cols[off + k]);
-        // So do the points kept between the plates (a short piece of the
-        // flange seen through the gap, cut off by a dropout or a noisy point).
-        for (int k = a.last + 1; fp.flange_pieces && k < b.first; ++k) consider(pt(k), s_.cols[k]);
-      }
-      bool web_is_b = true;
-      if (fp.web == WebSide::First) web_is_b = false;
-      else if (fp.web == WebSide::Auto) web_is_b = a_past || !b_past;
-      const Plate& flange = web_is_b ? a : b;
-      const Plate& web = web_is_b ? b : a;
-      const int f_out = web_is_b ? a.first : b.last;
-      const int f_end_col = web_is_b ? a_end_col : b_end_col;
-      const Vec2 f_end_pt = web_is_b ? a_end_pt : b_end_pt;
-      const int w_out = web_is_b ? b.last : a.first;
-      const bool gap_seen = web_is_b ? a_past : b_past;
-      // The web reaches over the points towards the flange that lie on its
-      // line (noise can cut its last points off the long segment), and over
-      // the points removed as outliers there that lie on its line, in front
-      // of the flange (a few web points cut off by dropouts form an island).
-      int w_end = web_is_b ? b.first : a.last;
-      Vec2 w_end_pt = pt(w_end);
-      if (gap_seen && fp.web_reaches) {
-        w_end = web_is_b ? reach(web.line, w_end, -1, a.last) : reach(web.line, w_end, +1, b.first);
-        w_end_pt = pt(w_end);
-        const auto removed = web_is_b ? outliers_between(s_.cols[a.last], s_.cols[w_end])
-                                      : outliers_between(s_.cols[w_end], s_.cols[b.first]);
-        for (std::size_t k = 0; k < removed.size(); ++k) {
-          // Towards the flange: from the web's end backwards when the web is b.
-          const Vec2& o = removed[web_is_b ? removed.size() - 1 - k : k];
-          if (web.line.distance(o) > tol_ || flange.line.signed_distance(o) <= tol_) break;
-          w_end_pt = o;
-        }
-      }
-
-      Candidate c;
-      c.angle = angle_between_deg(pr->ua, pr->ub);
-      c.track = pr->x;
-      c.track_cov = intersection_cov(cov_of(a), cov_of(b), pr->x), c.located = true;
-      c.bp[0] = outer(flange, pt(f_out));
-      c.bp[1] = pr->x;
-      c.bp[4] = outer(web, pt(w_out));
-      if (gap_seen) {
-        // The web's edge lies between its last point and the ray of the last
-        // flange point, which passed under it.
-        const Vec2 near = web.line.project(w_end_pt);
-        Vec2 toe = near;
-        if (const auto far = ray_hit(f_end_col, web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
-          toe = 0.5 * (near + *far);
-          c.edge_unc = 0.5 * (*far - near).norm();
-        }
-        c.gap = flange.line.distance(toe);
-        c.gap_paper = flange.line.distance(near);
-        c.bp[2] = flange.line.project(f_end_pt);
-        c.bp[3] = toe;
-        c.add_line(Line{flange.line.n, flange.line.n.dot(toe)});  // the web's bottom, if seen
-      } else {
-        c.gap = 0.0;
-        c.gap_paper = 0.0;
-        c.bp[2] = pr->x;
-        c.bp[3] = pr->x;
-      }
-      c.score = std::min(a.count(), b.count());
-      c.pa = a, c.pb = b;
-      c.accepted = check(c, "angle", c.angle, fp.angle_deg, "deg") && check(c, "gap", c.gap, fp.gap_mm, "mm");
-      offer(c);
-     }
+      if (p_.fillet.across_edge && q + 2 < n_long() && !continues_either(seg(q + 1), q, q + 2) &&
+          (pt(seg(q + 2).first) - pt(seg(q).last)).norm() <= 2.0 * kMaxRoundingMm)
+        fillet_pair(q, q + 2);
     }
+  }
+
+  // The fillet read from long segments q and q2 (> q) as its plates.
+  void fillet_pair(int q, int q2) {
+    const FilletParams& fp = p_.fillet;
+    // Each plate over the long segments beyond it that continue its line
+    // (noise can cut a plate in pieces; the short piece at the root alone
+    // gives a wrong angle).
+    auto pr = fp.extend_plates ? pair_of(extended(q, -1), extended(q2, +1)) : pair_of(longs_[q], longs_[q2]);
+    if (!pr || !pr->valley) return;
+    // Either plate may be a gentle arc near the root (a pipe's section).
+    pr = bent(*pr);
+    if (!pr->valley) return;
+    const Plate& a = pr->a;
+    const Plate& b = pr->b;
+    // A gap shows as the flange seen beyond the web's line, under its edge.
+    // The points seen there can be few and off the line of their neighbours
+    // (removed as an outlier cluster): those on the flange's line count too.
+    int a_end_col = s_.cols[a.last], b_end_col = s_.cols[b.first];
+    Vec2 a_end_pt = pt(a.last), b_end_pt = pt(b.first);
+    bool a_past = beyond(a, a.last, b.line);
+    bool b_past = beyond(b, b.first, a.line);
+    {
+      // A point on a plate's line beyond the other's moves that plate's end
+      // there: a's to the last such point in column order, b's to the first.
+      auto consider = [&](const Vec2& o, int col) {
+        if (col > a_end_col && a.line.distance(o) <= tol_ && beyond_line(a.centroid, o, b.line)) {
+          a_past = true;
+          a_end_col = col, a_end_pt = o;
+        }
+        if (col < b_end_col && b.line.distance(o) <= tol_ && beyond_line(b.centroid, o, a.line)) {
+          b_past = true;
+          b_end_col = col, b_end_pt = o;
+        }
+      };
+      const auto removed = outliers_between(s_.cols[a.last], s_.cols[b.first]);
+      const std::size_t off =
+          removed.empty() ? 0 : static_cast<std::size_t>(removed.data() - s_.outlier_points.data());
+      for (std::size_t k = 0; k < removed.size(); ++k) consider(removed[k], s_.outlier_cols[off + k]);
+      // So do the points kept between the plates (a short piece of the
+      // flange seen through the gap, cut off by a dropout or a noisy point).
+      for (int k = a.last + 1; fp.flange_pieces && k < b.first; ++k) consider(pt(k), s_.cols[k]);
+    }
+    bool web_is_b = true;
+    if (fp.web == WebSide::First) web_is_b = false;
+    else if (fp.web == WebSide::Auto) web_is_b = a_past || !b_past;
+    const Plate& flange = web_is_b ? a : b;
+    const Plate& web = web_is_b ? b : a;
+    const int f_out = web_is_b ? a.first : b.last;
+    const int f_end_col = web_is_b ? a_end_col : b_end_col;
+    const Vec2 f_end_pt = web_is_b ? a_end_pt : b_end_pt;
+    const int w_out = web_is_b ? b.last : a.first;
+    const bool gap_seen = web_is_b ? a_past : b_past;
+    // The web reaches over the points towards the flange that lie on its
+    // line (noise can cut its last points off the long segment), and over
+    // the points removed as outliers there that lie on its line, in front
+    // of the flange (a few web points cut off by dropouts form an island).
+    int w_end = web_is_b ? b.first : a.last;
+    Vec2 w_end_pt = pt(w_end);
+    if (gap_seen && fp.web_reaches) {
+      w_end = web_is_b ? reach(web.line, w_end, -1, a.last) : reach(web.line, w_end, +1, b.first);
+      w_end_pt = pt(w_end);
+      const auto removed = web_is_b ? outliers_between(s_.cols[a.last], s_.cols[w_end])
+                                    : outliers_between(s_.cols[w_end], s_.cols[b.first]);
+      for (std::size_t k = 0; k < removed.size(); ++k) {
+        // Towards the flange: from the web's end backwards when the web is b.
+        const Vec2& o = removed[web_is_b ? removed.size() - 1 - k : k];
+        if (web.line.distance(o) > tol_ || flange.line.signed_distance(o) <= tol_) break;
+        w_end_pt = o;
+      }
+    }
+
+    Candidate c;
+    c.angle = angle_between_deg(pr->ua, pr->ub);
+    c.track = pr->x;
+    c.track_cov = intersection_cov(cov_of(a), cov_of(b), pr->x), c.located = true;
+    c.bp[0] = outer(flange, pt(f_out));
+    c.bp[1] = pr->x;
+    c.bp[4] = outer(web, pt(w_out));
+    if (gap_seen) {
+      // The web's edge lies between its last point and the ray of the last
+      // flange point, which passed under it.
+      const Vec2 near = web.line.project(w_end_pt);
+      Vec2 toe = near;
+      if (const auto far = ray_hit(f_end_col, web.line); far && (*far - near).dot(outward(web, near)) > 0.0) {
+        toe = 0.5 * (near + *far);
+        c.edge_unc = 0.5 * (*far - near).norm();
+      }
+      c.gap = flange.line.distance(toe);
+      c.gap_paper = flange.line.distance(near);
+      c.bp[2] = flange.line.project(f_end_pt);
+      c.bp[3] = toe;
+      c.add_line(Line{flange.line.n, flange.line.n.dot(toe)});  // the web's bottom, if seen
+    } else {
+      c.gap = 0.0;
+      c.gap_paper = 0.0;
+      c.bp[2] = pr->x;
+      c.bp[3] = pr->x;
+    }
+    c.score = std::min(a.count(), b.count());
+    c.pa = a, c.pb = b;
+    c.accepted = check(c, "angle", c.angle, fp.angle_deg, "deg") && check(c, "gap", c.gap, fp.gap_mm, "mm");
+    offer(c);
   }
 
   void corner() {
