@@ -1375,6 +1375,13 @@ class Matcher {
            pl.line.distance(mid.line.project(pt(mid.last))) <= tol_;
   }
 
+  // Long segments q < q2 end within two roundings' reach of each other (the
+  // last point of q to the first of q2): what lies between them can be the
+  // rounded or chamfered edges of the plates they are.
+  bool within_roundings(int q, int q2) const {
+    return (pt(seg(q2).first) - pt(seg(q).last)).norm() <= 2.0 * kMaxRoundingMm;
+  }
+
   // Every column strictly between columns a and b holds a kept point (none
   // invalid, none removed as an outlier).
   bool no_gone_between(int a, int b) const {
@@ -1557,7 +1564,7 @@ class Matcher {
       // rounded or chamfered bottom edge (its arc, set back from the web's
       // face line, is a segment of its own).
       if (p_.fillet.across_edge && q + 2 < n_long() && !continues_either(seg(q + 1), q, q + 2) &&
-          (pt(seg(q + 2).first) - pt(seg(q).last)).norm() <= 2.0 * kMaxRoundingMm)
+          within_roundings(q, q + 2))
         fillet_pair(q, q + 2);
     }
   }
@@ -1675,7 +1682,7 @@ class Matcher {
     for (int q = 0; q + 1 < n_long(); ++q) {
       for (int q2 = q + 1; q2 < n_long(); ++q2) {
         const bool many = q2 > q + 3;
-        if (many && (!cp.closed_notch || (pt(seg(q2).first) - pt(seg(q).last)).norm() > 2.0 * kMaxRoundingMm))
+        if (many && (!cp.closed_notch || !within_roundings(q, q2)))
           break;
         bool notch = true;
         for (int m = q + 1; m < q2 && notch; ++m) notch = !continues_either(seg(m), q, q2);
