@@ -478,6 +478,14 @@ struct TrackerParams {
   // an edge is removed, and the few plate points between it and the edge are
   // then removed as an island; the plate's segment alone ended before them.
   bool reach_removed_points = true;
+  // A plate's edge lies short of the first column beyond its end whose ray
+  // shows that it missed the plate (tracker.cpp, edge_at): the columns right
+  // beyond the end whose points were removed as outliers in front of both
+  // plates (a reflection cluster over the edge; for a lap's upper plate with
+  // its edge face hidden, any point in front of it or behind the lower
+  // plate) are passed over, as their rays may have met the plate. false:
+  // the next column.
+  bool edge_past_reflections = true;
   // Step 4 detaches a segment's end points off its line only when they lie
   // farther than surface_tol_mm from it too (not only fit_tol_mm or 4 rms of
   // the fit): a surface seen nearly along the rays has its range noise along

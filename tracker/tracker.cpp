@@ -18,6 +18,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 // Most points a butt gap's walls can show inside one merged segment.
 constexpr int kMaxWallPoints = 16;
 
@@ -1133,11 +1134,12 @@ class Matcher {
   Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
                std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false,
                bool prep_not_faces = false, double max_width = std::numeric_limits<double>::infinity(),
-               const LineCov* line_cov = nullptr) const {
+               const LineCov* line_cov = nullptr, int far_col = -1) const {
+    if (far_col < 0) far_col = beyond_col;
     const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
-    if (const auto x = ray_hit(beyond_col, pl.line); x && (*x - near).dot(dir) > 0.0)
+    if (const auto x = ray_hit(far_col, pl.line); x && (*x - near).dot(dir) > 0.0)
       far = (*x - near).dot(dir) > max_width ? Vec2(near + max_width * dir) : *x;
     double width = (far - near).dot(dir);
     // A rounded or chamfered edge: the points in the columns right beyond
@@ -1199,10 +1201,11 @@ class Matcher {
     }
     const double h = 0.5 * (far - near).dot(dir);
     if (!(h > 0.0)) return Edge{near, 0.0, moved(lc, n, u_near * n) + end_var * d * d.transpose()};
-    const double rn = ray.dot(n);
+    const Vec2 ray_far = far_col == beyond_col ? ray : ray_dir(far_col);
+    const double rn = ray_far.dot(n);
     if (!(std::abs(rn) > 1e-9))
       return Edge{0.5 * (near + far), h, Eigen::Matrix2d::Constant(std::numeric_limits<double>::infinity())};
-    const Vec2 g = ray / rn;  // the ray's hit moves along it by the line's shift / (ray . n)
+    const Vec2 g = ray_far / rn;  // the ray's hit moves along it by the line's shift / (ray . n)
     const double u_far = (far - lc.mean).dot(d);
     return Edge{0.5 * (near + far), h,
                 moved(lc, 0.5 * (n + g), 0.5 * (u_near * n + u_far * g)) +
@@ -1254,6 +1257,12 @@ class Matcher {
     if (from > to) return {};
     return {s_.points.data() + from, static_cast<std::size_t>(to - from + 1)};
   }
+  // No surface of a lap: behind its lower plate or in front of its upper
+  // one (a reflection cluster displaced along its rays).
+  bool no_surface_pt(const Plate& lower, const Plate& upper, const Vec2& q) const {
+    return lower.line.signed_distance(q) < -tol_ || upper.line.signed_distance(q) > tol_;
+  }
+
   // Points removed as outliers strictly between columns a and b.
   std::span<const Vec2> outliers_between(int a, int b) const {
     const auto lo = std::upper_bound(s_.outlier_cols.begin(), s_.outlier_cols.end(), a);
@@ -1724,8 +1733,10 @@ class Matcher {
           };
           const int a_end = reach(a, pr->ua, a.last, +1, b.first);
           const int b_end = reach(b, pr->ub, b.first, -1, a_end);
-          el = edge(a, a_end, s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1));
-          er = edge(b, b_end, s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1));
+          el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), {}, false, false,
+                       kInf, nullptr, first_missed(a.line, b.line, s_.cols[a_end] + 1, +1));
+          er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), {}, false, false,
+                       kInf, nullptr, first_missed(b.line, a.line, s_.cols[b_end] - 1, -1));
         }
         c.angle = angle_between_deg(pr->ua, pr->ub);
         c.gap = (er.point - el.point).norm();
@@ -1914,9 +1925,7 @@ class Matcher {
           auto on_upper = [&](int i) {
             return upper.line.distance(pt(i)) <= tol_ && lower.line.distance(pt(i)) > tol_;
           };
-          auto no_surface = [&](int i) {
-            return lower.line.signed_distance(pt(i)) < -tol_ || upper.line.signed_distance(pt(i)) > tol_;
-          };
+          auto no_surface = [&](int i) { return no_surface_pt(lower, upper, pt(i)); };
           const int step = upper_is_b ? -1 : +1;
           for (int i = u_edge + step; i >= from && i <= to; i += step) {
             if (no_surface(i)) continue;
@@ -1929,7 +1938,16 @@ class Matcher {
           int u_col = s_.cols[u_edge];
           reach_removed(upper.line, &lower.line, upper_is_b ? -1 : +1, s_.cols[l_end], u_pt, u_col, &lower.line);
           const int beyond_col = upper_is_b ? u_col - 1 : u_col + 1;
-          const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true);
+          int far_col = beyond_col;
+          // Nor do the columns beyond it that saw no surface of a lap show
+          // where it ends: whether their rays met the upper plate is not
+          // known (a reflection cluster hid it). The edge lies short of the
+          // first column beyond that saw a surface, or nothing.
+          if (p_.edge_past_reflections)
+            for (auto q = point_at_col(far_col); q && no_surface_pt(lower, upper, *q); q = point_at_col(far_col))
+              far_col += upper_is_b ? -1 : +1;
+          const Edge e =
+              edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true, kInf, nullptr, far_col);
           top = e.point;
           c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);
@@ -2093,6 +2111,23 @@ class Matcher {
     return EdgeInterval{std::max(0.0, past), std::max(0.0, *passed), std::max(0.0, -last)};
   }
 
+  // The first column from `col` on, stepping by `step`, whose ray shows that
+  // it missed the plate on line l (TrackerParams::edge_past_reflections): a
+  // point removed as an outlier in front of l and of the other plate's line
+  // (a reflection cluster) does not, as its ray may have met the plate.
+  int first_missed(const Line& l, const Line& other, int col, int step) const {
+    if (!p_.edge_past_reflections) return col;
+    const int n = static_cast<int>(s_.column_state.size());
+    // (A reflection cluster is a few points: twice what step 1 removes as one.)
+    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    for (int k = 0; k <= max_cluster; ++k, col += step) {
+      if (col < 0 || col >= n || s_.column_state[col] != kColumnOutlier) return col;
+      const auto q = point_at_col(col);
+      if (!q || l.signed_distance(*q) <= tol_ || other.signed_distance(*q) <= tol_) return col;
+    }
+    return col - (max_cluster + 1) * step;  // a longer run: no reflection
+  }
+
   // Longest run of consecutive invalid columns strictly between columns a < b.
   int invalid_run(int a, int b) const {
     int best = 0, run = 0;
@@ -2129,8 +2164,10 @@ class Matcher {
     int a_col = s_.cols[a.last], b_col = s_.cols[b.first];
     reach_removed(a.line, nullptr, +1, s_.cols[b.first], a_end, a_col);
     reach_removed(b.line, nullptr, -1, a_col, b_end, b_col);
-    const Edge el = edge_at(a, a_end, a_col + 1, &a.line.n, span_of(from, to), removed);
-    const Edge er = edge_at(b, b_end, b_col - 1, &b.line.n, span_of(from, to), removed);
+    const Edge el = edge_at(a, a_end, a_col + 1, &a.line.n, span_of(from, to), removed, false, false, kInf, nullptr,
+                            first_missed(a.line, b.line, a_col + 1, +1));
+    const Edge er = edge_at(b, b_end, b_col - 1, &b.line.n, span_of(from, to), removed, false, false, kInf, nullptr,
+                            first_missed(b.line, a.line, b_col - 1, -1));
     const bool b_higher = a.line.signed_distance(er.point) > 0.0;
     const Plate& lower = b_higher ? a : b;
     const Vec2& high_edge = b_higher ? er.point : el.point;
@@ -3713,8 +3750,10 @@ class Matcher {
           if (!r_found && br.line.distance(o) <= tol_ && (o - pr->x).dot(pr->ub) > 0.0)
             r_end = o, r_col = col, r_found = true;  // the first
         }
-        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to), {}, true);
-        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to), {}, true);
+        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to), {}, true, false, kInf,
+                     nullptr, first_missed(bl.line, br.line, l_col + 1, +1));
+        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to), {}, true, false, kInf,
+                     nullptr, first_missed(br.line, bl.line, r_col - 1, -1));
         open_root = true;
       }
       // The plates' surface direction: from the tops, else square to the bisector.

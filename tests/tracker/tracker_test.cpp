@@ -672,6 +672,34 @@ TEST_CASE("butt noisy: a plate reaches over removed points on its line past a re
   CHECK(!(r2.status == tk::TrackStatus::Ok && std::abs(r2.gap_mm - 1.5) <= 2 * sp));
 }
 
+TEST_CASE("butt: a reflection cluster over a plate's edge hides where it ends", "[tracker][butt]") {
+  // Plates at 50 mm, the left one 1 mm nearer, a 1.5 mm gap (rays through it
+  // find nothing). A reflection cluster displaces the left plate's last 4
+  // points 2.2 mm towards the sensor: removed as outliers, they show
+  // nothing of where their rays met the plate, so its edge lies between its
+  // last kept point and the first ray into the gap (4.5 columns), not
+  // between that point and the next column's ray (TrackerParams::
+  // edge_past_reflections). The edge read is the interval's middle.
+  auto p = synth::sample({{Vec2(-40, 49), Vec2(-0.75, 49)}, {Vec2(0.75, 50), Vec2(40, 50)}});
+  int e = column_at(p, -0.75) - 1;  // the left plate's last column
+  while (!p.valid[e]) --e;
+  for (int k = e - 3; k <= e; ++k) along_ray(p, k, -2.2);
+  const double sp = spacing_at(50.0);
+  const auto r = track(p, tk::JointType::Butt);
+  INFO(r.reason << ", " << r.outliers << " outliers, gap " << r.gap_mm << ", edge uncertainty " << r.edge_uncertainty_mm);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  REQUIRE(r.outliers == 4);
+  // The left edge's interval: 4 hidden columns and the one into the gap.
+  CHECK(r.gap_mm == Approx(1.5 + 2.25 * sp).margin(0.75 * sp));
+  tk::TrackerParams off;
+  off.edge_past_reflections = false;
+  const auto r2 = track(p, tk::JointType::Butt, off);
+  INFO(r2.reason << ", gap " << r2.gap_mm << ", edge uncertainty " << r2.edge_uncertainty_mm);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK(r2.gap_mm == Approx(1.5 + 4.0 * sp).margin(0.75 * sp));
+  CHECK(r.edge_uncertainty_mm > r2.edge_uncertainty_mm + 1.5 * sp);
+}
+
 TEST_CASE("fillet noisy: each plate extends over the pieces of its line beyond it", "[tracker][fillet]") {
   // A 90-degree fillet at 250 mm (sigma 0.15 mm). The web's first 9 points
   // at the root are tilted by a ramp of +-0.5 mm along their rays (noise that
@@ -1183,6 +1211,34 @@ TEST_CASE("lap: edge face hidden, foot below the top edge", "[tracker][lap]") {
   CHECK(r.step_mm == Approx(4.0).margin(1e-3));
   CHECK(r.gap_mm == Approx(1.0).margin(1e-3));  // step 4 - thickness 3
   CHECK(std::isnan(r.angle_deg));
+}
+
+TEST_CASE("lap: a reflection cluster over the hidden edge face's top edge", "[tracker][lap]") {
+  // As above, the upper plate on the left up to y = 20, its edge face
+  // hidden. A reflection cluster displaces its last 3 points 2.5 mm towards
+  // the sensor: they say nothing of where their rays met the plate, so the
+  // top edge lies between its last point on the plate and the first ray that
+  // reached the lower plate (TrackerParams::edge_past_reflections), and the
+  // foot under it is read in that interval's middle, 1.5 columns short of
+  // the truth instead of 3.
+  const auto clean = synth::sample({{Vec2(-80, 96), Vec2(20, 96)}, {Vec2(20, 96), Vec2(20, 100)},
+                                    {Vec2(20, 100), Vec2(80, 100)}});
+  auto p = clean;
+  int e = 0;  // the upper plate's last column
+  while (!(p.valid[e + 1] && p.z[e + 1] > 99.0f)) ++e;
+  for (int k = e - 2; k <= e; ++k) along_ray(p, k, -2.5);
+  const double sp = spacing_at(96.0);
+  const auto r = track(p, tk::JointType::Lap);
+  INFO(r.reason << ", " << r.outliers << " outliers");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  REQUIRE(r.outliers == 3);
+  CHECK(r.track_point->x() == Approx(20.0 - 1.5 * sp).margin(0.6 * sp));
+  tk::TrackerParams off;
+  off.edge_past_reflections = false;
+  const auto r2 = track(p, tk::JointType::Lap, off);
+  INFO(r2.reason);
+  REQUIRE(r2.status == tk::TrackStatus::Ok);
+  CHECK(r2.track_point->x() == Approx(20.0 - 3.0 * sp).margin(0.6 * sp));
 }
 
 TEST_CASE("lap: a top edge the points do not place to 1 mm is uncertain", "[tracker][lap]") {
