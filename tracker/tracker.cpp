@@ -4146,7 +4146,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     // Readings compared with each other (a rival, a step beyond the joint)
     // at the calibration's temperature; against "not in view" as they are.
     const double tau = cp.temperature > 0.0 ? cp.temperature : 1.0;
-    double against = std::exp(std::min(unseen - e, 700.0)), rivals = 0.0;
+    double against = std::exp(std::min((unseen - e) / (cp.temper_unseen ? tau : 1.0), 700.0)), rivals = 0.0;
     // A rival of that strength against the reading, at the temperature.
     auto odds = [&](double strength) { return std::exp(std::min((strength - e) / tau, 700.0)); };
     m.for_each_rival(best, [&](const Vec2& track, double strength) {

@@ -336,6 +336,30 @@ TEST_CASE("butt: a tack weld over the joint is never read as its gap", "[tracker
   }
 }
 
+TEST_CASE("butt: a tight gap between coplanar plates, the \"not in view\" term at the temperature", "[tracker][butt]") {
+  // Coplanar plates at 100 mm, a 0.3 mm gap: 2 columns with no return, all
+  // a reading has against "the joint is not in view" (a dropout run there
+  // would look the same). By default that term is undivided and the gap is
+  // read; divided by the temperature as the rivals' are
+  // (ConfidenceParams::temper_unseen) the reading is "weak" at about 0.86,
+  // in the same place (docs/JOINTS.md "Calibration").
+  const auto p = synth::sample({{Vec2(-80, 100), Vec2(-0.15, 100)}, {Vec2(0.15, 100), Vec2(80, 100)}});
+  const double s = spacing_at(100.0);
+  const auto r = track(p, tk::JointType::Butt);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r.track_point->x()) < s);
+  tk::TrackerParams tempered;
+  tempered.confidence.temper_unseen = true;
+  const auto rt = track(p, tk::JointType::Butt, tempered);
+  INFO(rt.reason);
+  CHECK(rt.status == tk::TrackStatus::Rejected);
+  CHECK(rt.reason.rfind("weak", 0) == 0);
+  CHECK(rt.confidence == Approx(0.86).margin(0.03));
+  REQUIRE(rt.track_point);
+  CHECK((*rt.track_point - *r.track_point).norm() < 1e-9);
+}
+
 TEST_CASE("butt: a dropout run far from a tack weld over the joint is not read as the gap", "[tracker][butt]") {
   // One plane z = 100 + 0.1 y (the plates, butted at y = -30 with no gap)
   // and a tack weld over the joint: a circular cap 6 mm wide and 2 mm high
