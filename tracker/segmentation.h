@@ -118,6 +118,9 @@ struct Segmentation {
   // Sums, moments and line fit (normal towards the sensor) of points
   // [first, last]; O(last - first).
   PointSums sums(int first, int last) const;
+  // The sums of those points of [first, last] within max_distance of line,
+  // added in the same order (with all of them, the same as sums()).
+  PointSums sums_near(const Line& line, double max_distance, int first, int last) const;
   Moments moments(const PointSums& sums) const;
   Moments moments(int first, int last) const { return moments(sums(first, last)); }
   std::optional<LineFit> fit(const PointSums& sums) const;

@@ -1020,9 +1020,7 @@ class Matcher {
   LineCov cov_of(const Line& line, int first, int last) const {
     for (const CovMemo& m : cov_memo_)
       if (m.used && m.first == first && m.last == last && m.line.c == line.c && m.line.n == line.n) return m.cov;
-    PointSums sums;
-    for (int i = first; i <= last; ++i)
-      if (line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    const PointSums sums = s_.sums_near(line, kOutlierSigma * sigma_, first, last);
     const LineCov lc = cov_of(line, sums);
     cov_memo_[cov_memo_next_++ % cov_memo_.size()] = {line, first, last, lc, true};
     return lc;
