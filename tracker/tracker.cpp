@@ -1090,7 +1090,8 @@ class Matcher {
     }
     sum_w = std::exp(std::log(0.5) - lw_max);
     for (int i = 0; i < k; ++i) {
-      const double w = std::exp(lw[i] - lw_max);
+      // exp is 0 below about -745.13 (the least subnormal): no call there.
+      const double x = lw[i] - lw_max, w = x < -746.0 ? 0.0 : std::exp(x);
       sum_w += w, sum_wd += w * dd[i];
     }
     return sum_wd / sum_w;
