@@ -266,6 +266,7 @@ void Segmentation::clear() {
   valid_points = 0;
   outliers = 0;
   error.clear();
+  sums_memo_next_ = 0;
 }
 
 namespace {
@@ -295,10 +296,22 @@ PointSums sums_of(const Vec2* points, const Vec2& ref, int first, int last, Keep
 }  // namespace
 
 PointSums Segmentation::sums(int first, int last) const {
-  return sums_of(points.data(), ref_, first, last, [](const Vec2&) { return true; });
+  const PointSums t = sums_of(points.data(), ref_, first, last, [](const Vec2&) { return true; });
+  sums_memo_[sums_memo_next_++ % sums_memo_.size()] = {first, last, t};
+  return t;
 }
 
 PointSums Segmentation::sums_near(const Line& line, double max_distance, int first, int last) const {
+  const std::size_t memos = std::min(sums_memo_next_, sums_memo_.size());
+  for (std::size_t k = 0; k < memos; ++k) {
+    const SumsMemo& m = sums_memo_[k];
+    if (m.first != first || m.last != last) continue;
+    // Every point near the line (a loop without branches): sums()' answer.
+    int far = 0;
+    for (int i = first; i <= last; ++i) far += !(line.distance(points[i]) <= max_distance);
+    if (far == 0) return m.sums;
+    break;
+  }
   return sums_of(points.data(), ref_, first, last, [&](const Vec2& p) { return line.distance(p) <= max_distance; });
 }
 
