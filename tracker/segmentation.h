@@ -117,7 +117,9 @@ struct Segmentation {
   std::string error;     // set when the input itself is malformed
 
   // Sums, moments and line fit (normal towards the sensor) of points
-  // [first, last]; O(last - first).
+  // [first, last]; O(last - first). sums() keeps its answer for sums_near
+  // (sums_memo_): not for calls on one Segmentation from several threads at
+  // once.
   PointSums sums(int first, int last) const;
   // The sums of those points of [first, last] within max_distance of line,
   // added in the same order (with all of them, the same as sums(): then
