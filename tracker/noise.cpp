@@ -27,10 +27,28 @@ double estimate_noise_mm(const ProfileView& p, int roi_first, int roi_last) {
   // distances (the median of their roots is the root of their median).
   const int centres = hi - lo - 3;
   const int stride = std::max(1, (centres + kNoiseSamples - 1) / kNoiseSamples);
+  // Where the runs lie close together (most columns looked at) the usable
+  // flags come a block of columns at a time, in a pass that vectorises.
+  constexpr int kBlock = 256;
+  std::array<std::uint8_t, kBlock> flags;
+  int f0 = 0, f1 = 0;  // flags[k]: usable(f0 + k), for columns f0 <= f0 + k < f1
+  const bool blocks = stride <= 8;
+  auto run_usable = [&](int i) -> bool {
+    if (!blocks) return usable(i - 2) & usable(i - 1) & usable(i) & usable(i + 1) & usable(i + 2);
+    if (i + 2 >= f1) {
+      f0 = i - 2, f1 = std::min(hi + 1, f0 + kBlock);
+      const int len = f1 - f0;
+      for (int k = 0; k < len; ++k) flags[k] = (std::abs(py[f0 + k]) <= 1e30f) & (std::abs(pz[f0 + k]) <= 1e30f);
+      if (!all_valid)
+        for (int k = 0; k < len; ++k) flags[k] &= pv[f0 + k] != 0;
+    }
+    const std::uint8_t* f = flags.data() + (i - 2 - f0);
+    return (f[0] & f[1] & f[2] & f[3] & f[4]) != 0;
+  };
   std::array<float, kNoiseSamples + 1> d2;
   int m = 0;
   for (int i = lo + 2; i <= hi - 2 && m <= kNoiseSamples; i += stride) {
-    if (!(usable(i - 2) & usable(i - 1) & usable(i) & usable(i + 1) & usable(i + 2))) continue;
+    if (!run_usable(i)) continue;
     const float ay = p.y_mm[i - 2], az = p.z_mm[i - 2];
     const float cy = p.y_mm[i + 2] - ay, cz = p.z_mm[i + 2] - az;
     const float len2 = cy * cy + cz * cz;

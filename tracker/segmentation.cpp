@@ -266,23 +266,53 @@ void Segmentation::clear() {
   valid_points = 0;
   outliers = 0;
   error.clear();
+  sums_memo_next_ = 0;
 }
 
-PointSums Segmentation::sums(int first, int last) const {
-  PointSums t;
-  const double ry = ref_.x(), rz = ref_.y();
-  double sy = 0.0, sz = 0.0, syy = 0.0, szz = 0.0, syz = 0.0;
+namespace {
+
+// The sums of the points of [first, last] that keep(point) accepts, relative
+// to ref: (sy, sz) and (syy, szz) as 2-vectors, one instruction adding both,
+// each rounded as alone.
+template <class Keep>
+PointSums sums_of(const Vec2* points, const Vec2& ref, int first, int last, Keep keep) {
+  Vec2 s1 = Vec2::Zero(), s2 = Vec2::Zero();
+  double syz = 0.0;
+  int n = 0;
   for (int k = first; k <= last; ++k) {
-    const double dy = points[k].x() - ry, dz = points[k].y() - rz;
-    sy += dy;
-    sz += dz;
-    syy += dy * dy;
-    szz += dz * dz;
-    syz += dy * dz;
+    if (!keep(points[k])) continue;
+    const Vec2 d = points[k] - ref;
+    s1 += d;
+    s2 += d.cwiseProduct(d);
+    syz += d.x() * d.y();
+    ++n;
   }
-  t.n = std::max(0, last - first + 1);
-  t.sy = sy, t.sz = sz, t.syy = syy, t.szz = szz, t.syz = syz;
+  PointSums t;
+  t.n = n;
+  t.sy = s1.x(), t.sz = s1.y(), t.syy = s2.x(), t.szz = s2.y(), t.syz = syz;
   return t;
+}
+
+}  // namespace
+
+PointSums Segmentation::sums(int first, int last) const {
+  const PointSums t = sums_of(points.data(), ref_, first, last, [](const Vec2&) { return true; });
+  sums_memo_[sums_memo_next_++ % sums_memo_.size()] = {first, last, t};
+  return t;
+}
+
+PointSums Segmentation::sums_near(const Line& line, double max_distance, int first, int last) const {
+  const std::size_t memos = std::min(sums_memo_next_, sums_memo_.size());
+  for (std::size_t k = 0; k < memos; ++k) {
+    const SumsMemo& m = sums_memo_[k];
+    if (m.first != first || m.last != last) continue;
+    // Every point near the line (a loop without branches): sums()' answer.
+    int far = 0;
+    for (int i = first; i <= last; ++i) far += !(line.distance(points[i]) <= max_distance);
+    if (far == 0) return m.sums;
+    break;
+  }
+  return sums_of(points.data(), ref_, first, last, [&](const Vec2& p) { return line.distance(p) <= max_distance; });
 }
 
 Moments Segmentation::moments(const PointSums& t) const {

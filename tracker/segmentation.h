@@ -1,6 +1,7 @@
 #pragma once
 // Steps 1 to 4 of the paper's Figure 4: outlier elimination, recursive split,
 // merge, and a least-squares line per segment.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -116,8 +117,14 @@ struct Segmentation {
   std::string error;     // set when the input itself is malformed
 
   // Sums, moments and line fit (normal towards the sensor) of points
-  // [first, last]; O(last - first).
+  // [first, last]; O(last - first). sums() keeps its answer for sums_near
+  // (sums_memo_): not for calls on one Segmentation from several threads at
+  // once.
   PointSums sums(int first, int last) const;
+  // The sums of those points of [first, last] within max_distance of line,
+  // added in the same order (with all of them, the same as sums(): then
+  // sums()' own answer for that range, if it gave one this profile).
+  PointSums sums_near(const Line& line, double max_distance, int first, int last) const;
   Moments moments(const PointSums& sums) const;
   Moments moments(int first, int last) const { return moments(sums(first, last)); }
   std::optional<LineFit> fit(const PointSums& sums) const;
@@ -141,6 +148,14 @@ struct Segmentation {
   Buffer<std::uint8_t> keep_, spike_, usable_;
   Buffer<float> ys_, zs_, steps_;
   std::vector<SplitRegion> stack_, leaves_;
+  // sums()' last answers this profile (the segments' own ranges, mostly),
+  // for sums_near.
+  struct SumsMemo {
+    int first = 0, last = -1;
+    PointSums sums;
+  };
+  mutable std::array<SumsMemo, 32> sums_memo_{};
+  mutable std::size_t sums_memo_next_ = 0;
 };
 
 // Runs steps 1 to 4 on one profile. `out` is overwritten; its buffers are

@@ -1021,9 +1021,7 @@ class Matcher {
   LineCov cov_of(const Line& line, int first, int last) const {
     for (const CovMemo& m : cov_memo_)
       if (m.used && m.first == first && m.last == last && m.line.c == line.c && m.line.n == line.n) return m.cov;
-    PointSums sums;
-    for (int i = first; i <= last; ++i)
-      if (line.distance(pt(i)) <= kOutlierSigma * sigma_) sums.add(pt(i) - s_.ref_);
+    const PointSums sums = s_.sums_near(line, kOutlierSigma * sigma_, first, last);
     const LineCov lc = cov_of(line, sums);
     cov_memo_[cov_memo_next_++ % cov_memo_.size()] = {line, first, last, lc, true};
     return lc;
@@ -1093,7 +1091,8 @@ class Matcher {
     }
     sum_w = std::exp(std::log(0.5) - lw_max);
     for (int i = 0; i < k; ++i) {
-      const double w = std::exp(lw[i] - lw_max);
+      // exp is 0 below about -745.13 (the least subnormal): no call there.
+      const double x = lw[i] - lw_max, w = x < -746.0 ? 0.0 : std::exp(x);
       sum_w += w, sum_wd += w * dd[i];
     }
     return sum_wd / sum_w;
