@@ -1114,17 +1114,13 @@ class Matcher {
     return d.dot(end - pl.centroid) < 0.0 ? Vec2(-d) : d;
   }
 
-  // The edge of a plate at its end point `end_index`: between that point and
-  // where the ray of column `beyond_col` (which did not hit the plate) meets
-  // the plate's line. If square_edges and a point of [from, to] lies on the
-  // edge face (behind the plate, on a line along face_dir that meets the plate
+  // The edge of a plate at its end point `end_point`: between that point and
+  // where the ray of column `far_col` (the first beyond it that missed the
+  // plate, first_missed; -1: `beyond_col`, the next column) meets the
+  // plate's line. If square_edges and a point of `faces` lies on the edge
+  // face (behind the plate, on a line along face_dir that meets the plate
   // inside that interval), the edge is where that face meets the plate.
-  Edge edge(const Plate& pl, int end_index, int beyond_col, const Vec2* face_dir, std::span<const Vec2> faces,
-            std::span<const Vec2> more_faces = {}) const {
-    return edge_at(pl, pt(end_index), beyond_col, face_dir, faces, more_faces);
-  }
-  // The same from an end point given by its position.
-  // Rounded or chamfered edges are looked for (rounding()) unless `sharp`
+  // Rounded or chamfered edges are looked for (rounding()) from `beyond_col` on unless `sharp`
   // (a bevel's root edge: its root face falls away from the bevel too).
   // The edge lies at most `max_width` past the end point's foot (where what
   // is seen beyond bounds it more closely than the next ray). `line_cov`:
@@ -4143,7 +4139,8 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     const double hidden = std::clamp(cp.hidden_prior, 1e-12, 1.0 - 1e-12);
     const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
     // Readings compared with each other (a rival, a step beyond the joint)
-    // at the calibration's temperature; against "not in view" as they are.
+    // at the calibration's temperature; against "not in view" as they are
+    // (at the temperature too with ConfidenceParams::temper_unseen).
     const double tau = cp.temperature > 0.0 ? cp.temperature : 1.0;
     double against = std::exp(std::min((unseen - e) / (cp.temper_unseen ? tau : 1.0), 700.0)), rivals = 0.0;
     // A rival of that strength against the reading, at the temperature.
