@@ -609,7 +609,22 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
                 left = SplitRegion{a, rough_at, true, s.sums(a, rough_at - 1)};
                 right = SplitRegion{rough_at, b, true, s.sums(rough_at, b - 1)};
                 const auto l = s.fit(s.with_point(left.head, rough_at)), r = s.fit(s.with_point(right.head, b));
-                if (!l || !r || l->rms_mm > 0.5 * f->rms_mm || r->rms_mm > 0.5 * f->rms_mm) rough_at = -1;
+                const double half = 0.5 * f->rms_mm;
+                bool two_lines = l && r && l->rms_mm <= half && r->rms_mm <= half;
+                // The point there is on one line only where the lines are
+                // parallel, a step between them (a butt's mismatch below
+                // t_split): each side is tested with it on the side it fits.
+                if (!two_lines && sp.rough_step_either_side && l && r) {
+                  if (rough_at + 1 < b) {
+                    const auto r1 = s.fit(s.with_point(s.sums(rough_at + 1, b - 1), b));
+                    two_lines = l->rms_mm <= half && r1 && r1->rms_mm <= half;
+                  }
+                  if (!two_lines && rough_at - 1 > a) {
+                    const auto l1 = s.fit(left.head);
+                    two_lines = r->rms_mm <= half && l1 && l1->rms_mm <= half;
+                  }
+                }
+                if (!two_lines) rough_at = -1;
               }
             }
           }

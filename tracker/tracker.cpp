@@ -3987,6 +3987,22 @@ const char* shape_of(JointType joint) {
   return "";
 }
 
+// Columns of the profile's interior (between its first and last kept
+// point) that show no surface (invalid, or their points removed as
+// outliers), in runs of at least min_cols columns that span more than
+// min_width_mm between the kept points around them, the runs touching the
+// joint's own columns [ca, cb] left out: where a joint may lie unseen.
+int hiding_columns(const Segmentation& s, int ca, int cb, int min_cols, double min_width_mm) {
+  int u = 0;
+  const int n = static_cast<int>(s.cols.size());
+  for (int i = 0; i + 1 < n; ++i) {
+    const int run = s.cols[i + 1] - s.cols[i] - 1;
+    if (run < std::max(1, min_cols) || (s.cols[i] < cb && s.cols[i + 1] > ca)) continue;
+    if ((s.points[i + 1] - s.points[i]).norm() > min_width_mm) u += run;
+  }
+  return u;
+}
+
 }  // namespace
 
 std::string_view to_string(JointType type) {
@@ -4137,7 +4153,17 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     const double e = best.evidence.strength;
     out.strength = e;
     const double hidden = std::clamp(cp.hidden_prior, 1e-12, 1.0 - 1e-12);
-    const double unseen = std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden));
+    // "Not in view": the prior hidden_prior, and for a butt the columns
+    // that show nothing where its joint may lie unread (hiding_columns: a
+    // shadow or dropout run wider than its widest gap), the joint's place
+    // taken as even over the columns.
+    int hiding = 0;
+    if (cp.hidden_in_unseen && params_.joint == JointType::Butt && best.pa.count() > 0 && best.pb.count() > 0) {
+      hiding = hiding_columns(seg_, seg_.cols[best.pa.last], seg_.cols[best.pb.first], p.butt.min_hole_columns,
+                              p.butt.gap_mm.max);
+    }
+    const double unseen =
+        std::log(std::max(1, seg_.valid_points) * hidden / (1.0 - hidden) + hiding / (1.0 - hidden));
     // Readings compared with each other (a rival, a step beyond the joint)
     // at the calibration's temperature; against "not in view" as they are
     // (at the temperature too with ConfidenceParams::temper_unseen).

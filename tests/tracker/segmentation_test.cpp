@@ -294,3 +294,34 @@ TEST_CASE("outliers: an island is a piece only if the point beyond continues it 
     CHECK(s.column_state[c + 1] == tk::kColumnKept);
   }
 }
+
+TEST_CASE("segmentation: a step below t_split near a region's end is split, its point on its own side",
+          "[tracker][segmentation]") {
+  // Two parallel plates, the right one 0.28 mm nearer the sensor from
+  // y = 30.74 (40 of the 512 columns, the first on the step's face, 0.13 mm
+  // below the upper plate): the step leaves the chord by 0.26 mm, less than
+  // t_split (0.4 mm), so only the rough split (rough_tol_mm, the tracker's
+  // surface tolerance) cuts it. Its farthest point from the chord is the
+  // lower plate's last: with it, the upper side fits a line with an rms of
+  // 0.045 mm, more than half the whole's (0.066 mm / 2); on its own side,
+  // the lower side fits exactly and the upper (with the face's point) to
+  // 0.022 mm.
+  const auto p = synth::sample(
+      {{Vec2(-80, 100), Vec2(30.74, 100)}, {Vec2(30.74, 100), Vec2(30.74, 99.72)}, {Vec2(30.74, 99.72), Vec2(80, 99.72)}});
+  int face = 0;
+  while (!(p.z[face] < 99.99f)) ++face;
+  REQUIRE(p.z[face] > 99.8f);  // on the face, not the upper plate
+  REQUIRE(p.valid.size() - face == 40);
+  tk::SegmentationParams params;
+  tk::Segmentation s;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  REQUIRE(long_segments(s) == 2);
+  CHECK(s.segments.front().last_col == face - 1);
+  CHECK(s.segments.back().first_col >= face);
+  CHECK(s.segments.back().first_col <= face + 1);
+  CHECK(s.segments.front().line.distance(Vec2(0, 100)) < 1e-4);
+  CHECK(s.segments.back().line.distance(Vec2(50, 99.72)) < 0.01);  // (the face's point may be in its fit)
+  params.segments.rough_step_either_side = false;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  CHECK(long_segments(s) == 1);
+}

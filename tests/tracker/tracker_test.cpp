@@ -511,6 +511,7 @@ TEST_CASE("butt: coplanar plates merged across the gap are still split at it", "
   while (p.y[c] < 0.0f) ++c;
   p.invalidate(c, c + 2);
   const auto r = track(p, tk::JointType::Butt);
+  INFO(r.reason);
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK(r.segments.size() == 1);
   const double s = spacing_at(100.0);
@@ -1397,4 +1398,58 @@ TEST_CASE("tracker: no allocation after warm-up", "[tracker]") {
   }
   CHECK(g_allocations.load() == before);
   CHECK(r.status == tk::TrackStatus::Ok);
+}
+
+TEST_CASE("butt: a 0.28 mm mismatch without a gap near the profile's end, below t_split", "[tracker][butt]") {
+  // The plates of the segmentation test "a step below t_split near a
+  // region's end": the joint is the upper plate's edge at y = 30.74, its
+  // track point the edges' midpoint on the lower plate (z = 100), within a
+  // column spacing (0.14 mm) of it. With the step's point on both sides of
+  // the rough split's test, the profile is one segment and no butt is read
+  // there.
+  const auto p = synth::sample(
+      {{Vec2(-80, 100), Vec2(30.74, 100)}, {Vec2(30.74, 100), Vec2(30.74, 99.72)}, {Vec2(30.74, 99.72), Vec2(80, 99.72)}});
+  const auto r = track(p, tk::JointType::Butt);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - Vec2(30.74, 100)).norm() < 0.15);
+  CHECK(r.mismatch_mm == Approx(0.28).margin(0.01));
+  tk::TrackerParams without;
+  without.segmentation.segments.rough_step_either_side = false;
+  const auto r2 = track(p, tk::JointType::Butt, without);
+  CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.track_point - Vec2(30.74, 100)).norm() < 0.15));
+}
+
+TEST_CASE("butt: a shadow over coplanar plates may hide the joint a dropout run elsewhere would be read as",
+          "[tracker][butt][confidence]") {
+  // One plane at z = 100 (coplanar plates, or one plate): 3 columns
+  // missing at y = -20 look like a tight gap, and a shadow 12 mm wide
+  // (y = 5-17, a clamp's) shows nothing where the joint may lie as well.
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(80, 100)}});
+  auto col_at = [&](double y) {
+    int c = 0;
+    while (p.y[c] < y) ++c;
+    return c;
+  };
+  const int gap = col_at(-20.0), shadow0 = col_at(5.0), shadow1 = col_at(17.0);
+  p.invalidate(gap, gap + 2);
+  p.invalidate(shadow0, shadow1);
+  tk::TrackerParams without;
+  without.confidence.hidden_in_unseen = false;
+  const auto r0 = track(p, tk::JointType::Butt, without);
+  const auto r = track(p, tk::JointType::Butt);
+  // Read alone as a tight gap at y = -20, at 0.92 (hand-checked from its
+  // evidence E: 1 / (1 + n h / (1 - h) e^-E), n usable points, h = 0.05).
+  REQUIRE(r0.status == tk::TrackStatus::Ok);
+  CHECK(std::abs(r0.track_point->x() + 20.0) < 0.5);
+  const double h = 0.05, n = r0.valid_points, e = r0.strength;
+  CHECK(r0.confidence == Approx(1.0 / (1.0 + n * h / (1.0 - h) * std::exp(-e))).epsilon(1e-6));
+  // With the shadow's columns as places the joint may lie unseen (the
+  // joint's place even over the n + u columns of the profile's inside):
+  // 1 / (1 + (n h + u) / (1 - h) e^-E), 0.70: weak.
+  const double u = shadow1 - shadow0 + 1;
+  CHECK(r.strength == Approx(e));
+  CHECK(r.confidence == Approx(1.0 / (1.0 + (n * h + u) / (1.0 - h) * std::exp(-e))).epsilon(1e-6));
+  CHECK(r.status == tk::TrackStatus::Rejected);
+  CHECK(r.reason.rfind("weak", 0) == 0);
 }
