@@ -72,6 +72,15 @@ struct SegmentParams {
   // it fits (a 0.28 mm step over 45 mm of plate at noise 0 failed by 1 %
   // with it on the wrong side, and the step went unseen). false: on both.
   bool rough_step_either_side = true;
+  // Where the rough split's test fails at the region's farthest point from
+  // the chord, it is tried where two lines, one through each side, fit the
+  // region best (least squares over every place), and cuts there if the
+  // two lines are parallel within rough_step_max_angle_deg: a step (a
+  // butt's mismatch) on a wavy surface, whose farthest point from the chord
+  // waviness can put a millimetre away. Corners are cut at the farthest
+  // point as before. false: only there.
+  bool rough_split_best_fit = true;
+  double rough_step_max_angle_deg = 5.0;
 };
 
 struct SegmentationParams {

@@ -379,6 +379,36 @@ std::pair<int, double> farthest_from_chord(const Vec2* pts, int from, int to, in
   return {i0, w0};
 }
 
+// The squared residuals about the total least-squares line of a set of
+// points (the scatter matrix's smaller eigenvalue).
+double line_sse(const PointSums& ps) {
+  if (ps.n < 2) return 0.0;
+  const double inv = 1.0 / ps.n;
+  const double cyy = ps.syy - ps.sy * ps.sy * inv, czz = ps.szz - ps.sz * ps.sz * inv,
+               cyz = ps.syz - ps.sy * ps.sz * inv;
+  const double h = 0.5 * (cyy - czz);
+  return std::max(0.0, 0.5 * (cyy + czz) - std::sqrt(h * h + cyz * cyz));
+}
+
+// The point k of [a, b] (at least min_side points on either side: [a, k - 1]
+// and [k, b]) where two lines, one through each side, leave the least
+// squared residuals: a step's or a corner's place, found by least squares
+// (running sums: the place only, the fits are summed afresh).
+int best_two_line_split(const Segmentation& s, int a, int b, int min_side) {
+  PointSums total;
+  for (int k = a; k <= b; ++k) total.add(s.points[k] - s.ref_);
+  PointSums left;
+  for (int k = a; k < a + min_side; ++k) left.add(s.points[k] - s.ref_);
+  int best_k = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = a + min_side; k <= b - min_side; ++k) {
+    const double sse = line_sse(left) + line_sse(total - left);
+    if (sse < best) best = sse, best_k = k;
+    left.add(s.points[k] - s.ref_);
+  }
+  return best_k;
+}
+
 // Refits a segment from f, the fit of its sums (seg.sums must match
 // [first, last]; f empty for fewer than two points).
 void refit(const Segmentation& s, Segment& seg, const std::optional<LineFit>& f) {
@@ -605,26 +635,39 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
               if (rough_at - a < 3 || b - rough_at < 3 || !(far / len > rough_tol_mm)) rough_at = -1;
               // Two lines meet there: each side alone fits a line at least
               // twice as well (a displaced cluster on one line does not).
-              if (rough_at >= 0) {
-                left = SplitRegion{a, rough_at, true, s.sums(a, rough_at - 1)};
-                right = SplitRegion{rough_at, b, true, s.sums(rough_at, b - 1)};
-                const auto l = s.fit(s.with_point(left.head, rough_at)), r = s.fit(s.with_point(right.head, b));
+              auto two_lines_at = [&](int at, double* angle_cos) {
+                left = SplitRegion{a, at, true, s.sums(a, at - 1)};
+                right = SplitRegion{at, b, true, s.sums(at, b - 1)};
+                const auto l = s.fit(s.with_point(left.head, at)), r = s.fit(s.with_point(right.head, b));
                 const double half = 0.5 * f->rms_mm;
-                bool two_lines = l && r && l->rms_mm <= half && r->rms_mm <= half;
+                bool two = l && r && l->rms_mm <= half && r->rms_mm <= half;
                 // The point there is on one line only where the lines are
                 // parallel, a step between them (a butt's mismatch below
                 // t_split): each side is tested with it on the side it fits.
-                if (!two_lines && sp.rough_step_either_side && l && r) {
-                  if (rough_at + 1 < b) {
-                    const auto r1 = s.fit(s.with_point(s.sums(rough_at + 1, b - 1), b));
-                    two_lines = l->rms_mm <= half && r1 && r1->rms_mm <= half;
+                if (!two && sp.rough_step_either_side && l && r) {
+                  if (at + 1 < b) {
+                    const auto r1 = s.fit(s.with_point(s.sums(at + 1, b - 1), b));
+                    two = l->rms_mm <= half && r1 && r1->rms_mm <= half;
                   }
-                  if (!two_lines && rough_at - 1 > a) {
+                  if (!two && at - 1 > a) {
                     const auto l1 = s.fit(left.head);
-                    two_lines = r->rms_mm <= half && l1 && l1->rms_mm <= half;
+                    two = r->rms_mm <= half && l1 && l1->rms_mm <= half;
                   }
                 }
-                if (!two_lines) rough_at = -1;
+                if (angle_cos && l && r) *angle_cos = std::abs(l->line.n.dot(r->line.n));
+                return two;
+              };
+              if (rough_at >= 0 && !two_lines_at(rough_at, nullptr)) {
+                // Not there: a step between parallel lines may be elsewhere,
+                // waviness putting the farthest point from the chord a
+                // millimetre from it. Where two lines fit the region best
+                // (least squares over every place), if they are parallel.
+                const int at = sp.rough_split_best_fit ? best_two_line_split(s, a, b, 3) : -1;
+                double angle_cos = 0.0;
+                rough_at = at >= 0 && at != rough_at && two_lines_at(at, &angle_cos) &&
+                                   angle_cos >= std::cos(sp.rough_step_max_angle_deg * 3.14159265358979323846 / 180.0)
+                               ? at
+                               : -1;
               }
             }
           }

@@ -321,7 +321,43 @@ TEST_CASE("segmentation: a step below t_split near a region's end is split, its 
   CHECK(s.segments.back().first_col <= face + 1);
   CHECK(s.segments.front().line.distance(Vec2(0, 100)) < 1e-4);
   CHECK(s.segments.back().line.distance(Vec2(50, 99.72)) < 0.01);  // (the face's point may be in its fit)
+  // Either rule alone cuts it (the least-squares place of two parallel
+  // lines is the step too); neither, and it stays one segment.
+  params.segments.rough_split_best_fit = false;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  CHECK(long_segments(s) == 2);
+  params.segments.rough_split_best_fit = true;
   params.segments.rough_step_either_side = false;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  CHECK(long_segments(s) == 2);
+  params.segments.rough_split_best_fit = false;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  CHECK(long_segments(s) == 1);
+}
+
+TEST_CASE("segmentation: a step below t_split on a wavy surface is split at the step", "[tracker][segmentation]") {
+  // Plates at z = 100 and, from y = 20, 0.3 mm nearer the sensor (a butt's
+  // mismatch, its face seen by one column), 1,024 columns, with waviness
+  // 0.05 mm in amplitude and 8 mm in wavelength along the rays: the rough
+  // split's test fails at the region's farthest point from the chord (one
+  // segment without rough_split_best_fit); the least-squares place of two
+  // lines is the step, each side then fitting its line to the waviness
+  // (0.05 / sqrt(2) = 0.035 mm rms).
+  const int n = 1024;
+  auto p = synth::sample({{Vec2(-80, 100), Vec2(20, 100)}, {Vec2(20, 100), Vec2(20, 99.7)}, {Vec2(20, 99.7), Vec2(80, 99.7)}},
+                         n);
+  int step = 0;
+  while (!(p.y[step] >= 20.0f)) ++step;
+  for (int i = 0; i < n; ++i)
+    synth::along_ray(p, i, 0.05 * std::sin(2.0 * std::numbers::pi * synth::column_tan(i, n) * 100.0 / 8.0));
+  tk::SegmentationParams params;
+  tk::Segmentation s;
+  tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
+  REQUIRE(long_segments(s) == 2);
+  CHECK(std::abs(s.segments.back().first_col - step) <= 1);
+  CHECK(s.segments.front().rms_mm < 0.04);
+  CHECK(s.segments.back().rms_mm < 0.04);
+  params.segments.rough_split_best_fit = false;
   tk::segment_profile(p.view(), params, s, 0.0, 0.02, 0.0);
   CHECK(long_segments(s) == 1);
 }
