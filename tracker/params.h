@@ -433,6 +433,12 @@ struct ConfidenceParams {
   // columns, wider than ButtParams::gap_mm's largest gap, between two kept
   // points, not the reading's own).
   bool hidden_in_unseen = true;
+  // A run of invalid columns weighed as a random event may be one shadow
+  // rather than a dropout run of the profile's own rate: its length k
+  // columns costs the cheaper of (k - 1) ln(1 / q) (q the share of the
+  // profile's other invalid columns that continue a run) and
+  // ln(k (k + 1) / shadow_weight). 0: the run's rate alone.
+  double shadow_weight = 0.05;
   // Readings less sure than this are rejected ("weak" or "ambiguous").
   double min_confidence = 0.9;
   // A reading must explain the points near the joint: it is rejected

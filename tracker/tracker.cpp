@@ -726,17 +726,26 @@ class Matcher {
   // per column among the profile's span_ columns (`events` of them, Laplace's
   // rule), and ln(1 / q) for each further column, q the share of their
   // `gone` columns that continue one.
-  double event_cost(int cols, double events, double gone) const {
+  double event_cost(int cols, double events, double gone, bool invalid = false) const {
     if (cols <= 0) return 0.0;
     const double p = (events + 1.0) / (span_ + 2.0), q = (gone - events + 1.0) / (gone + 2.0);
-    return std::log(1.0 / p) + (cols - 1) * std::log(1.0 / q);
+    const double run = (cols - 1) * std::log(1.0 / q);
+    // A run of invalid columns may also be one shadow (a clamp's, the
+    // torch's, a wall's towards the camera): its length then follows no
+    // rate of the profile's other runs, P(k) = w / (k (k + 1)) for k
+    // columns, w = ConfidenceParams::shadow_weight; the cheaper of the two.
+    const double w = p_.confidence.shadow_weight;
+    if (invalid && w > 0.0 && cols > 1)
+      return std::log(1.0 / p) + std::min(run, std::log(cols * (cols + 1.0) / w));
+    return std::log(1.0 / p) + run;
   }
   // One of the profile's events of that kind, priced by the rate of the
   // profile's other events (as weigh() leaves a reading's own out: an
   // event must not make itself likely, a wide gap's columns the share
   // that continue a run).
   double event_cost(int cols, std::uint8_t type) const {
-    return event_cost(cols, std::max(0, events_[type - 1] - 1), std::max(0, gone_[type - 1] - cols));
+    return event_cost(cols, std::max(0, events_[type - 1] - 1), std::max(0, gone_[type - 1] - cols),
+                      type == kInvalidEvent);
   }
 
   // The cost of the kept points i0..i1 (every stride-th, weighted), the
@@ -965,7 +974,8 @@ class Matcher {
         if (cols <= 0) return 0.0;
         int own_gone = 0;
         const int own_events = events_between(ca, cb, type, &own_gone);
-        return event_cost(cols, std::max(0, events_[type - 1] - own_events), std::max(0, gone_[type - 1] - own_gone));
+        return event_cost(cols, std::max(0, events_[type - 1] - own_events), std::max(0, gone_[type - 1] - own_gone),
+                          type == kInvalidEvent);
       };
       event = random_event(invalid, kInvalidEvent) + random_event(into + stray, kPointEvent) - random_event(stray, kPointEvent);
     }

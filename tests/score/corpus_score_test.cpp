@@ -464,7 +464,9 @@ TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][
   // plane, the v-groove's 36 and 113 read right (their false reading took a
   // bevel for a plate top) and 243 is rejected by the groove model beside
   // the template; since a point beside the joint counts on its own side's
-  // plate only, the butt's 194 at 0.1 mm reads right. None may be a false
+  // plate only, the butt's 194 at 0.1 mm reads right, and since a run of
+  // invalid columns may be one shadow (ConfidenceParams::shadow_weight),
+  // the butt's 201 at noise 0 too. None may be a false
   // read, and a profile rejected as ambiguous must have the true joint
   // among its readings.
   struct Case {
@@ -483,7 +485,7 @@ TEST_CASE("corpus: rival readings are weighed over the same points", "[tracker][
     INFO(vc::joint_name(c.joint) << " seed " << c.seed << " level " << c.level << ": " << tk::to_string(r.status)
                                  << " " << r.reason << ", error " << one.scored.track_error_mm);
     CHECK(one.scored.outcome != tk::Outcome::False);
-    if (c.joint == vc::Joint::Butt && c.seed == 194) {
+    if (c.joint == vc::Joint::Butt && (c.seed == 194 || c.seed == 201)) {
       CHECK(one.scored.outcome == tk::Outcome::Right);
       continue;
     }
@@ -526,5 +528,52 @@ TEST_CASE("corpus: a tack weld's top is no plate where the surface beyond it lie
     CHECK(before.scored.outcome == tk::Outcome::False);
     CHECK(one.result.status == tk::TrackStatus::Rejected);
     CHECK(one.result.reason.rfind("unexplained", 0) == 0);
+  }
+}
+
+TEST_CASE("corpus: butt false reads far from the joint on seeds never read before (session 26)", "[tracker][corpus]") {
+  // Unseen seeds (5,000,001 on), noise 0, each read 20-62 mm from the
+  // joint before this session's rules and no longer read there; each
+  // case's rule off, it is a false read again.
+  struct Case {
+    std::uint64_t seed;
+    const char* what;
+    tk::TrackerParams without;
+    tk::Outcome outcome;  // with every rule
+    const char* reason;   // its start, if rejected
+  };
+  std::vector<Case> cases;
+  // A 0.28 mm mismatch 8 mm from the profile's end: one segment, a dropout
+  // run 37 mm away read as a tight gap. Now split there: right.
+  tk::TrackerParams p1;
+  p1.segmentation.segments.rough_step_either_side = false;
+  p1.segmentation.segments.rough_split_best_fit = false;
+  cases.push_back({5000758, "step point on its own side", p1, tk::Outcome::Right, ""});
+  // A 0.3 mm mismatch on a wavy surface, the farthest point from the
+  // chord 1 mm from it: cut at the least-squares place, the step is a
+  // rival of the dropout run read 20.8 mm away.
+  tk::TrackerParams p2;
+  p2.segmentation.segments.rough_split_best_fit = false;
+  cases.push_back({5000047, "least-squares step", p2, tk::Outcome::Rejected, "ambiguous"});
+  // The joint under a clamp's shadow over coplanar plates, a dropout run
+  // 34.7 mm away read as a tight gap: the shadow's columns may hide it.
+  tk::TrackerParams p3;
+  p3.confidence.hidden_in_unseen = false;
+  cases.push_back({5000798, "joint under a shadow", p3, tk::Outcome::Rejected, "weak"});
+  // A clamp's 4.7 mm shadow read as a gap 61.9 mm from the true one (its
+  // wall seen): priced as one shadow, no longer 40 nats of dropouts.
+  tk::TrackerParams p4;
+  p4.confidence.shadow_weight = 0.0;
+  cases.push_back({5000983, "one shadow", p4, tk::Outcome::Rejected, "ambiguous"});
+  for (const Case& c : cases) {
+    const ReadOne one = read_one(vc::Joint::Butt, c.seed, 0.0);
+    const ReadOne before = read_one(vc::Joint::Butt, c.seed, 0.0, c.without);
+    INFO("seed " << c.seed << " (" << c.what << "): " << tk::to_string(one.result.status) << " "
+                 << one.result.reason << ", error " << one.scored.track_error_mm << "; without: "
+                 << tk::to_string(before.result.status) << ", error " << before.scored.track_error_mm);
+    CHECK(before.scored.outcome == tk::Outcome::False);
+    CHECK(before.scored.track_error_mm > 20.0);
+    CHECK(one.scored.outcome == c.outcome);
+    CHECK(one.result.reason.rfind(c.reason, 0) == 0);
   }
 }
