@@ -354,6 +354,17 @@ struct GrooveParams {
   // read as the bottom, and the reading is rejected. A crest of the fill (B3
   // above both toes: a bead in the middle of a nearly full groove) is not.
   double min_track_depth_share = 0.5;
+  // A wall below a top edge is joined with the segments after it on its
+  // line: each point within the surface tolerance of the wall's line so far,
+  // or (true) a segment of more points than a reflection cluster that is
+  // one line with it (their joint fit within the tolerance and at most 1.5
+  // times the rougher one's rms), also past more than two short pieces off
+  // its line while these hold no more points than a reflection cluster. A
+  // 10-point piece of a bevel wall cut off below its top edge by a
+  // reflection cluster and two single points is 0.2 degrees off the
+  // 131-point rest of it, which then lay up to 0.2 mm off its line: the
+  // wall was read as the piece, and the 68 mm below as the groove's bottom.
+  bool wall_joins_one_line = true;
 };
 
 // The profile's noise level and the tolerances that follow it (tracker/noise.h).

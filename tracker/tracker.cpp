@@ -2689,8 +2689,12 @@ class Matcher {
       Wall w{sg.first, sg.last, sg.line, sg.sums};
       PointSums& sums = w.sums;
       // Past up to two pieces of at most 8 points off its line (a reflection
-      // cluster on the wall), to the next segment on it.
-      int skipped = 0;
+      // cluster on the wall), or more while they hold no more points than
+      // a reflection cluster (with GrooveParams::wall_joins_one_line: a
+      // cluster and a dropout's single points around it), to the next
+      // segment on it.
+      int skipped = 0, skipped_points = 0;
+      const int cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
       for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
         const Segment& nx = s_.segments[m];
         if (dir > 0 ? nx.first >= stop : nx.last <= stop) break;
@@ -2698,7 +2702,22 @@ class Matcher {
         // bottom at the corner also lie within the tolerance of it).
         bool on = nx.fitted && nx.count() >= 3 && acute_angle_deg(nx.line, w.line) <= 15.0;
         for (int i = nx.first; i <= nx.last && on; ++i) on = w.line.distance(pt(i)) <= tol_;
-        if (!on && nx.count() <= 8 && ++skipped <= 2) continue;
+        // Or the two are one line (GrooveParams::wall_joins_one_line): a
+        // segment of more points than a reflection cluster whose joint fit
+        // with the wall is within the tolerance and no worse than 1.5 times
+        // the rougher part's (a short piece's line, off in angle, misses a
+        // long wall's points far below it by more than the tolerance).
+        if (!on && gp.wall_joins_one_line && nx.fitted && nx.count() > cluster &&
+            acute_angle_deg(nx.line, w.line) <= 15.0) {
+          PointSums both = sums;
+          both += nx.sums;
+          const auto f = s_.fit(both), fw = s_.fit(sums);
+          on = f && fw && f->rms_mm <= tol_ && f->rms_mm <= 1.5 * std::max(fw->rms_mm, nx.rms_mm);
+        }
+        if (!on && nx.count() <= 8) {
+          skipped_points += nx.count();
+          if (++skipped <= 2 || (gp.wall_joins_one_line && skipped_points <= cluster)) continue;
+        }
         if (!on) break;
         sums += nx.sums;
         if (const auto f = s_.fit(sums)) w.line = f->line;

@@ -577,3 +577,24 @@ TEST_CASE("corpus: butt false reads far from the joint on seeds never read befor
     CHECK(one.result.reason.rfind(c.reason, 0) == 0);
   }
 }
+
+TEST_CASE("corpus: a bevel wall cut below its top edge is joined with the rest of it (session 26)",
+          "[tracker][corpus]") {
+  // Unseen bevel seed 5,000,456 at noise 0 (a 58 mm bevel wall at 390 mm,
+  // waviness, a reflection cluster and two dropout points 3 mm below the
+  // top edge): the 10 points above them fit a line 0.2 degrees off the
+  // 131 below, which lay up to 0.2 mm off it, so the wall was read as the
+  // 10 points and the 68 mm of wall below as the groove's bottom, its track
+  // point halfway down the wall, 40 mm from the root. Joined as one line
+  // (GrooveParams::wall_joins_one_line), the root is read within 0.35 mm.
+  const ReadOne one = read_one(vc::Joint::Bevel, 5000456, 0.0);
+  tk::TrackerParams off;
+  off.groove.wall_joins_one_line = false;
+  const ReadOne before = read_one(vc::Joint::Bevel, 5000456, 0.0, off);
+  INFO(tk::to_string(one.result.status) << " " << one.result.reason << ", error " << one.scored.track_error_mm
+                                        << "; without: error " << before.scored.track_error_mm);
+  CHECK(before.scored.outcome == tk::Outcome::False);
+  CHECK(before.scored.track_error_mm > 20.0);
+  REQUIRE(one.result.status == tk::TrackStatus::Ok);
+  CHECK(one.scored.track_error_mm < 0.35);
+}
