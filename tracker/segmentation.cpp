@@ -380,29 +380,26 @@ std::pair<int, double> farthest_from_chord(const Vec2* pts, int from, int to, in
 }
 
 // The squared residuals about the total least-squares line of a set of
-// points (the scatter matrix's smaller eigenvalue).
-double line_sse(const PointSums& ps) {
+// points: the smaller eigenvalue of their scatter matrix (fit_line's l_min).
+double line_sse(const Segmentation& s, const PointSums& ps) {
   if (ps.n < 2) return 0.0;
-  const double inv = 1.0 / ps.n;
-  const double cyy = ps.syy - ps.sy * ps.sy * inv, czz = ps.szz - ps.sz * ps.sz * inv,
-               cyz = ps.syz - ps.sy * ps.sz * inv;
-  const double h = 0.5 * (cyy - czz);
-  return std::max(0.0, 0.5 * (cyy + czz) - std::sqrt(h * h + cyz * cyz));
+  const Moments m = s.moments(ps);
+  const double h = 0.5 * (m.syy - m.szz);
+  return std::max(0.0, 0.5 * (m.syy + m.szz) - std::sqrt(h * h + m.syz * m.syz));
 }
 
 // The point k of [a, b] (at least min_side points on either side: [a, k - 1]
-// and [k, b]) where two lines, one through each side, leave the least
-// squared residuals: a step's or a corner's place, found by least squares
-// (running sums: the place only, the fits are summed afresh).
-int best_two_line_split(const Segmentation& s, int a, int b, int min_side) {
-  PointSums total;
-  for (int k = a; k <= b; ++k) total.add(s.points[k] - s.ref_);
+// and [k, b]; `total` the sums of all of them) where two lines, one through
+// each side, leave the least squared residuals: a step's or a corner's
+// place, found by least squares (running sums: the place only, the fits
+// are summed afresh).
+int best_two_line_split(const Segmentation& s, int a, int b, const PointSums& total, int min_side) {
   PointSums left;
   for (int k = a; k < a + min_side; ++k) left.add(s.points[k] - s.ref_);
   int best_k = -1;
   double best = std::numeric_limits<double>::infinity();
   for (int k = a + min_side; k <= b - min_side; ++k) {
-    const double sse = line_sse(left) + line_sse(total - left);
+    const double sse = line_sse(s, left) + line_sse(s, total - left);
     if (sse < best) best = sse, best_k = k;
     left.add(s.points[k] - s.ref_);
   }
@@ -628,7 +625,8 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
           // rough test, and its segment, would sum it again).
           if (rough_tol_mm > 0.0 && len > 1e-12 && worst > rough_tol_mm) {
             if (!region.summed) region.head = s.sums(a, b - 1), region.summed = true;
-            const auto f = s.fit(s.with_point(region.head, b));
+            const PointSums whole = s.with_point(region.head, b);
+            const auto f = s.fit(whole);
             if (f && f->rms_mm > rough_tol_mm) {
               double far = 0.0;
               std::tie(rough_at, far) = farthest_from_chord(pts, a + 1, b, 1, ay, az, cy, cz);
@@ -662,7 +660,7 @@ void segment_profile(const ProfileView& profile, const SegmentationParams& param
                 // waviness putting the farthest point from the chord a
                 // millimetre from it. Where two lines fit the region best
                 // (least squares over every place), if they are parallel.
-                const int at = sp.rough_split_best_fit ? best_two_line_split(s, a, b, 3) : -1;
+                const int at = sp.rough_split_best_fit ? best_two_line_split(s, a, b, whole, 3) : -1;
                 double angle_cos = 0.0;
                 rough_at = at >= 0 && at != rough_at && two_lines_at(at, &angle_cos) &&
                                    angle_cos >= std::cos(sp.rough_step_max_angle_deg * 3.14159265358979323846 / 180.0)

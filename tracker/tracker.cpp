@@ -639,7 +639,7 @@ class Matcher {
     const int n = static_cast<int>(s_.cols.size());
     if (n == 0) return 0.0;
     const int ca = s_.cols[c.pa.last], cb = s_.cols[c.pb.first];
-    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    const int max_cluster = max_cluster_run();
     const int max_gap = std::max(1, p_.segmentation.segments.max_merge_gap_points);
     // 1: on the reading's line there, 2: in front of it (off), 0: neither
     // (behind it, or off by less than the bump's margin: ends nothing).
@@ -712,6 +712,11 @@ class Matcher {
   }
 
  private:
+  // The most points a reflection cluster holds: twice what step 1 removes
+  // as one (OutlierParams::max_cluster_points). A longer run off every line
+  // is a surface.
+  int max_cluster_run() const { return 2 * std::max(1, p_.segmentation.outliers.max_cluster_points); }
+
   // A point's cost at distance d from the line that explains it: nothing
   // within noise_k sigmas (noise, waviness: no evidence either way), then
   // growing as the Gaussian's x^2 / 2 up to cap_sigma (an outlier).
@@ -775,9 +780,9 @@ class Matcher {
     };
     double total = 0.0, run = 0.0;
     int run_n = 0, prev_col = -2;
-    // A reflection cluster is a few points (twice what step 1 removes as
-    // one): a longer run off every line is a surface the reading misses.
-    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    // A reflection cluster is a few points: a longer run off every line is
+    // a surface the reading misses.
+    const int max_cluster = max_cluster_run();
     auto close = [&] {
       if (run_n > 0) total += run_n <= max_cluster ? std::min(run, event_cost(run_n, kPointEvent)) : run;
       run = 0.0, run_n = 0;
@@ -2123,8 +2128,7 @@ class Matcher {
   int first_missed(const Line& l, const Line& other, int col, int step) const {
     if (!p_.edge_past_reflections) return col;
     const int n = static_cast<int>(s_.column_state.size());
-    // (A reflection cluster is a few points: twice what step 1 removes as one.)
-    const int max_cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+    const int max_cluster = max_cluster_run();
     for (int k = 0; k <= max_cluster; ++k, col += step) {
       if (col < 0 || col >= n || s_.column_state[col] != kColumnOutlier) return col;
       const auto q = point_at_col(col);
@@ -2688,13 +2692,14 @@ class Matcher {
       const Segment& sg = s_.segments[k];
       Wall w{sg.first, sg.last, sg.line, sg.sums};
       PointSums& sums = w.sums;
+      double w_rms = sg.rms_mm;  // of its line as fitted to `sums`
       // Past up to two pieces of at most 8 points off its line (a reflection
       // cluster on the wall), or more while they hold no more points than
       // a reflection cluster (with GrooveParams::wall_joins_one_line: a
       // cluster and a dropout's single points around it), to the next
       // segment on it.
       int skipped = 0, skipped_points = 0;
-      const int cluster = 2 * std::max(1, p_.segmentation.outliers.max_cluster_points);
+      const int cluster = max_cluster_run();
       for (int m = k + dir; m >= 0 && m < n_seg; m += dir) {
         const Segment& nx = s_.segments[m];
         if (dir > 0 ? nx.first >= stop : nx.last <= stop) break;
@@ -2711,8 +2716,8 @@ class Matcher {
             acute_angle_deg(nx.line, w.line) <= 15.0) {
           PointSums both = sums;
           both += nx.sums;
-          const auto f = s_.fit(both), fw = s_.fit(sums);
-          on = f && fw && f->rms_mm <= tol_ && f->rms_mm <= 1.5 * std::max(fw->rms_mm, nx.rms_mm);
+          const auto f = s_.fit(both);
+          on = f && f->rms_mm <= tol_ && f->rms_mm <= 1.5 * std::max(w_rms, nx.rms_mm);
         }
         if (!on && nx.count() <= 8) {
           skipped_points += nx.count();
@@ -2720,7 +2725,7 @@ class Matcher {
         }
         if (!on) break;
         sums += nx.sums;
-        if (const auto f = s_.fit(sums)) w.line = f->line;
+        if (const auto f = s_.fit(sums)) w.line = f->line, w_rms = f->rms_mm;
         w.first = std::min(w.first, nx.first), w.last = std::max(w.last, nx.last);
       }
       w.line.orient_towards(origin_);
