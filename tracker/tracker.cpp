@@ -328,6 +328,16 @@ std::optional<CircleFit> fit_circle(std::span<const Vec2> q, const Vec2& ref) {
   return f;
 }
 
+// The optional parts of Matcher::edge_at (see there).
+struct EdgeOptions {
+  std::span<const Vec2> more_faces = {};
+  bool sharp = false;
+  bool prep_not_faces = false;
+  double max_width = kInf;
+  const LineCov* line_cov = nullptr;
+  int far_col = -1;
+};
+
 class Matcher {
  public:
   Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
@@ -1140,12 +1150,15 @@ class Matcher {
   // The edge lies at most `max_width` past the end point's foot (where what
   // is seen beyond bounds it more closely than the next ray). `line_cov`:
   // how precisely the plate's line is known, if not from its points
-  // (cov_of).
+  // (cov_of). `more_faces` (EdgeOptions): further points that may lie on
+  // the edge face.
   Edge edge_at(const Plate& pl, const Vec2& end_point, int beyond_col, const Vec2* face_dir,
-               std::span<const Vec2> faces, std::span<const Vec2> more_faces = {}, bool sharp = false,
-               bool prep_not_faces = false, double max_width = std::numeric_limits<double>::infinity(),
-               const LineCov* line_cov = nullptr, int far_col = -1) const {
-    if (far_col < 0) far_col = beyond_col;
+               std::span<const Vec2> faces, const EdgeOptions& opt = {}) const {
+    const std::span<const Vec2> more_faces = opt.more_faces;
+    const bool sharp = opt.sharp, prep_not_faces = opt.prep_not_faces;
+    const double max_width = opt.max_width;
+    const LineCov* line_cov = opt.line_cov;
+    const int far_col = opt.far_col < 0 ? beyond_col : opt.far_col;
     const Vec2 near = pl.line.project(end_point);
     const Vec2 dir = outward(pl, near);
     Vec2 far = near;
@@ -1743,10 +1756,10 @@ class Matcher {
           };
           const int a_end = reach(a, pr->ua, a.last, +1, b.first);
           const int b_end = reach(b, pr->ub, b.first, -1, a_end);
-          el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), {}, false, false,
-                       kInf, nullptr, first_missed(a.line, b.line, s_.cols[a_end] + 1, +1));
-          er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), {}, false, false,
-                       kInf, nullptr, first_missed(b.line, a.line, s_.cols[b_end] - 1, -1));
+          el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1),
+                       {.far_col = first_missed(a.line, b.line, s_.cols[a_end] + 1, +1)});
+          er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1),
+                       {.far_col = first_missed(b.line, a.line, s_.cols[b_end] - 1, -1)});
         }
         c.angle = angle_between_deg(pr->ua, pr->ub);
         c.gap = (er.point - el.point).norm();
@@ -1956,8 +1969,8 @@ class Matcher {
           if (p_.edge_past_reflections)
             for (auto q = point_at_col(far_col); q && no_surface_pt(lower, upper, *q); q = point_at_col(far_col))
               far_col += upper_is_b ? -1 : +1;
-          const Edge e =
-              edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to), {}, false, true, kInf, nullptr, far_col);
+          const Edge e = edge_at(upper, u_pt, beyond_col, &upper.line.n, span_of(from, to),
+                                 {.prep_not_faces = true, .far_col = far_col});
           top = e.point;
           c.edge_unc = c.track_unc = e.half_width_mm;
           foot = lower.line.project(top);
@@ -2173,10 +2186,10 @@ class Matcher {
     int a_col = s_.cols[a.last], b_col = s_.cols[b.first];
     reach_removed(a.line, nullptr, +1, s_.cols[b.first], a_end, a_col);
     reach_removed(b.line, nullptr, -1, a_col, b_end, b_col);
-    const Edge el = edge_at(a, a_end, a_col + 1, &a.line.n, span_of(from, to), removed, false, false, kInf, nullptr,
-                            first_missed(a.line, b.line, a_col + 1, +1));
-    const Edge er = edge_at(b, b_end, b_col - 1, &b.line.n, span_of(from, to), removed, false, false, kInf, nullptr,
-                            first_missed(b.line, a.line, b_col - 1, -1));
+    const Edge el = edge_at(a, a_end, a_col + 1, &a.line.n, span_of(from, to),
+                            {.more_faces = removed, .far_col = first_missed(a.line, b.line, a_col + 1, +1)});
+    const Edge er = edge_at(b, b_end, b_col - 1, &b.line.n, span_of(from, to),
+                            {.more_faces = removed, .far_col = first_missed(b.line, a.line, b_col - 1, -1)});
     const bool b_higher = a.line.signed_distance(er.point) > 0.0;
     const Plate& lower = b_higher ? a : b;
     const Vec2& high_edge = b_higher ? er.point : el.point;
@@ -2853,7 +2866,8 @@ class Matcher {
         double max_width = std::numeric_limits<double>::infinity();
         if (const double slope = outward(wp, foot).dot(down); in_bottom && reach <= 1.0 && slope > 0.2)
           max_width = std::max(0.0, (pt(from) - foot).dot(down) / slope);
-        const Edge e = edge_at(wp, pt(wall_end), beyond_col, nullptr, {}, {}, true, false, max_width, &wall_cov);
+        const Edge e = edge_at(wp, pt(wall_end), beyond_col, nullptr, {},
+                                 {.sharp = true, .max_width = max_width, .line_cov = &wall_cov});
         const Vec2 off = e.point - foot;
         cov = e.cov + off * off.transpose();
       }
@@ -3779,10 +3793,10 @@ class Matcher {
           if (!r_found && br.line.distance(o) <= tol_ && (o - pr->x).dot(pr->ub) > 0.0)
             r_end = o, r_col = col, r_found = true;  // the first
         }
-        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to), {}, true, false, kInf,
-                     nullptr, first_missed(bl.line, br.line, l_col + 1, +1));
-        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to), {}, true, false, kInf,
-                     nullptr, first_missed(br.line, bl.line, r_col - 1, -1));
+        el = edge_at(bl, l_end, l_col + 1, tl ? &tl->line.n : nullptr, span_of(from, to),
+                     {.sharp = true, .far_col = first_missed(bl.line, br.line, l_col + 1, +1)});
+        er = edge_at(br, r_end, r_col - 1, tr ? &tr->line.n : nullptr, span_of(from, to),
+                     {.sharp = true, .far_col = first_missed(br.line, bl.line, r_col - 1, -1)});
         open_root = true;
       }
       // The plates' surface direction: from the tops, else square to the bisector.
