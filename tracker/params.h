@@ -150,6 +150,13 @@ struct CornerParams {
   // the faces' apex, alone (false: the closed and the open reading compete,
   // the profile ambiguous when they lie apart).
   bool closed_notch = true;
+  // An open corner's edges (its outer faces' meeting with its end faces)
+  // from the end faces as seen, at any slant (mitred ends), or, behind a
+  // rounding or chamfer with the face unseen, in the interval between its
+  // farthest point and the next ray, read at the middle, that interval its
+  // uncertainty (false: end faces square to the outer faces, the rounding's
+  // and chamfer's points taken as face points; before 2026-11-28).
+  bool fit_end_faces = true;
 };
 
 struct LapParams {

@@ -106,6 +106,7 @@ struct Edge {
   Vec2 point = Vec2::Zero();
   double half_width_mm = 0.0;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  std::optional<Line> face;  // the edge face as seen and fitted (EdgeOptions::fit_face)
 };
 
 // What a reading's points say for it (Matcher::weigh, docs/JOINTS.md
@@ -336,6 +337,15 @@ struct EdgeOptions {
   double max_width = kInf;
   const LineCov* line_cov = nullptr;
   int far_col = -1;
+  // The edge face may be seen at any slant (a corner's mitred end): where
+  // the points past the edge's rounding or chamfer (or past a sharp end)
+  // end in a run on one line that is its face, the edge is that line's
+  // meeting with the plate's (Matcher::seen_face).
+  bool fit_face = false;
+  const Line* other = nullptr;  // the other plate's line: its points are no edge face
+  // With fit_face and no face seen but points past the end: the edge is
+  // placed in the interval they leave (Matcher::seen_face).
+  bool face_interval = false;
 };
 
 class Matcher {
@@ -1180,6 +1190,8 @@ class Matcher {
                                rd.along + kMaxRoundingMm);
       width = std::max(width, r + tol_);
     }
+    if (opt.fit_face)
+      if (const auto e = seen_face(pl, near, dir, beyond_col, line_cov, opt.other, opt.face_interval)) return *e;
     if (face_dir && p_.square_edges) {
       Vec2 sum = Vec2::Zero();
       int k = 0;
@@ -1233,6 +1245,128 @@ class Matcher {
     return Edge{0.5 * (near + far), h,
                 moved(lc, 0.5 * (n + g), 0.5 * (u_near * n + u_far * g)) +
                     (0.25 * end_var + h * h / 3.0) * d * d.transpose()};
+  }
+
+  // The edge face as seen past plate pl's end `near` (outwards `dir`), at
+  // any slant (a corner's mitred end): the kept points in consecutive
+  // columns from beyond_col on, behind the plate's line, not on `other`'s
+  // (the other plate's line, if given) and going no shallower behind both
+  // lines (past a notch's bottom they climb its other side; as far as 64
+  // columns), up to the deepest of them, end in a run on one line, grown
+  // from the deepest point (or the one before it: noise past a notch's
+  // bottom) back while each point lies within the surface tolerance of the
+  // line through the run so far. That run is the plate's own edge face when
+  // it has at least kFacePoints points, lies more than 20 degrees off the
+  // plate, reaches deeper than a rounding or chamfer can (kMaxRoundingMm),
+  // lies within kSquareFaceDeg of square to the plate or goes back under
+  // it, its seen side faces away from the plate (not the other plate's end
+  // seen through a gap, which faces back), a shallow one lies more than 5
+  // degrees off the rays, and it meets the plate's line past the points
+  // before it (the rounding or chamfer it runs into), within kMaxRoundingMm
+  // of the end. The edge is then where the two lines meet (Edge::face: the
+  // run's line).
+  // Otherwise, with `interval` and kFacePoints of the plate's own points
+  // walked or more (a rounding or chamfer seen over several columns, not a
+  // ray or two into a gap; up to the other plate's face where one was seen
+  // through the gap): the edge lies past all of them and short of where the
+  // next column's ray, which passed them, meets the plate's line (at most
+  // kMaxRoundingMm further), read at the middle. Where a run that cannot be
+  // the face still leaves the edge unknown (along the rays; meeting the
+  // plate short of the points before it): nothing.
+  static constexpr int kFacePoints = 4;
+  static constexpr double kSquareFaceDeg = 15.0;
+  std::optional<Edge> seen_face(const Plate& pl, const Vec2& near, const Vec2& dir, int beyond_col,
+                                const LineCov* line_cov, const Line* other, bool interval) const {
+    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), beyond_col);
+    if (it == s_.cols.end() || *it != beyond_col) return std::nullopt;
+    const int n = static_cast<int>(s_.points.size());
+    const int i0 = static_cast<int>(it - s_.cols.begin());
+    // The walk's direction: away from the plate, as rounding() walks.
+    const int step = (pt(i0) - near).dot(dir) >= 0.0 && i0 + 1 < n &&
+                             (pt(i0 + 1) - near).dot(dir) >= (pt(i0) - near).dot(dir)
+                         ? +1
+                         : -1;
+    int last = -1;
+    double deepest = 0.0;
+    for (int i = i0, prev_col = beyond_col - step;
+         i >= 0 && i < n && s_.cols[i] == prev_col + step && std::abs(i - i0) < 64; prev_col = s_.cols[i], i += step) {
+      // Depth behind the plate, and behind the other plate too where
+      // given (past a notch's bottom the points climb the other side).
+      const double h = -pl.line.signed_distance(pt(i));
+      const double d = other ? std::min(h, -other->signed_distance(pt(i))) : h;
+      if (d < deepest - tol_) break;
+      if ((h <= tol_ && last >= 0) || (other && other->distance(pt(i)) <= tol_)) break;
+      if (d > deepest + 0.5 * tol_ || last < 0) deepest = d, last = i;  // the walk ends at its deepest point
+    }
+    if (last < 0) return std::nullopt;
+    const LineCov lc = line_cov ? *line_cov : cov_of(pl);
+    // How far along the walked points reach, up to (not including) `stop`.
+    const auto reach_to = [&](int stop) {
+      double r = 0.0;
+      for (int i = i0; i != stop; i += step) r = std::max(r, (pt(i) - near).dot(dir));
+      return r;
+    };
+    // end: the last of the plate's own points walked (the one before the
+    // other plate's face, where one was seen through a gap).
+    const auto in_interval = [&](int end) -> std::optional<Edge> {
+      if (!interval || std::abs(end - i0) + 1 < kFacePoints) return std::nullopt;
+      const double lo = reach_to(end + step);
+      double hi = lo;
+      if (const auto x = ray_hit(s_.cols[end] + step, pl.line)) hi = std::max(hi, (*x - near).dot(dir));
+      hi = std::min(hi, lo + kMaxRoundingMm);
+      const Vec2 e = near + 0.5 * (lo + hi) * dir, d = pl.line.direction();
+      const double h = std::max(0.5 * (hi - lo), tol_), u = (e - lc.mean).dot(d);
+      return Edge{e, h, moved(lc, pl.line.n, u * pl.line.n) + (h * h / 3.0) * d * d.transpose()};
+    };
+    // The run on one line, from the deepest point back: each point within
+    // the surface tolerance of the line through the points after it (from
+    // three on), their rms within it too.
+    const auto grow = [&](int from) {
+      PointSums sums;
+      std::optional<LineFit> run, so_far;
+      for (int i = from;; i -= step) {
+        if (so_far && so_far->count >= 3 && so_far->line.distance(pt(i)) > tol_) break;
+        const PointSums more = s_.with_point(sums, i);
+        if (i != from) {
+          const auto f = s_.fit(more);
+          if (!f || f->rms_mm > tol_) break;
+          so_far = f;
+          if (f->count >= kFacePoints) run = f;
+        }
+        sums = more;
+        if (i == i0) break;
+      }
+      return run;
+    };
+    std::optional<LineFit> run = grow(last);
+    // The deepest point may lie just past a notch's bottom (noise): the
+    // run from the one before it.
+    if (!run && last != i0 && (run = grow(last - step))) last -= step;
+    if (!run) return in_interval(last);
+    // A shallow run slanting outwards off square is a chamfer as much as a
+    // face (a run that goes back under the plate as it goes deeper is no
+    // chamfer: a chamfer cuts the edge, going outwards).
+    const bool shallow = -pl.line.signed_distance(pt(last)) <= kMaxRoundingMm;
+    const int first = last - step * (run->count - 1);
+    const bool receding = (pt(last) - pt(first)).dot(dir) < 0.0;
+    if (shallow && !receding && acute_angle_deg(run->line, pl.line) < 90.0 - kSquareFaceDeg) return in_interval(last);
+    Line face = run->line;
+    face.orient_towards(origin_);
+    const Vec2 ray = ray_dir(s_.cols[first]), fd = face.direction();
+    // Facing back: the other plate's end face, seen through the gap past
+    // this plate's edge (the ray to its first point passed the edge).
+    if (face.n.dot(dir) <= 0.0) return first != i0 ? in_interval(first - step) : std::nullopt;
+    if (acute_angle_deg(face, pl.line) < 20.0) return in_interval(last);
+    // A shallow run along the rays may be an arc's end turning out of view,
+    // and a face whose line meets the plate's short of the points before it
+    // a piece of a face that noise cut: neither says where the edge is.
+    if (shallow && std::abs(fd.x() * ray.y() - fd.y() * ray.x()) < std::sin(5.0 * kDeg)) return std::nullopt;
+    const auto x = intersect(pl.line, face, std::sin(20.0 * kDeg));
+    if (!x) return in_interval(last);
+    const double along = (*x - near).dot(dir);
+    if (along < reach_to(first) - tol_ || along < -tol_ || along > kMaxRoundingMm + tol_) return std::nullopt;
+    return Edge{*x, 0.0, intersection_cov(lc, cov_of(run->line, s_.sums(std::min(first, last), std::max(first, last))), *x),
+                face};
   }
 
   // Rounded and chamfered edges are at most this wide (mm).
@@ -1734,6 +1868,7 @@ class Matcher {
         Candidate c;
         const Eigen::Matrix2d x_cov = intersection_cov(cov_of(a), cov_of(b), pr->x);
         Edge el{pr->x, 0.0, x_cov}, er{pr->x, 0.0, x_cov};
+        Edge el0 = el, er0 = er;
         bool open = false;
         // Faces that meet between two neighbouring rays (or in a run of
         // invalid columns) are one sharp edge: missing points are no gap.
@@ -1756,10 +1891,21 @@ class Matcher {
           };
           const int a_end = reach(a, pr->ua, a.last, +1, b.first);
           const int b_end = reach(b, pr->ub, b.first, -1, a_end);
-          el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1),
-                       {.far_col = first_missed(a.line, b.line, s_.cols[a_end] + 1, +1)});
-          er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1),
-                       {.far_col = first_missed(b.line, a.line, s_.cols[b_end] - 1, -1)});
+          const EdgeOptions oa{.far_col = first_missed(a.line, b.line, s_.cols[a_end] + 1, +1)};
+          const EdgeOptions ob{.far_col = first_missed(b.line, a.line, s_.cols[b_end] - 1, -1)};
+          el = el0 = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), oa);
+          er = er0 = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), ob);
+          if (cp.fit_end_faces) {
+            // The end faces as seen, at any slant, or the interval their
+            // rounding or chamfer leaves (seen_face); square end faces as
+            // before where neither is seen. The closed notch's test below
+            // keeps the square faces' edges (el0, er0).
+            EdgeOptions fa = oa, fb = ob;
+            fa.fit_face = fb.fit_face = fa.face_interval = fb.face_interval = true;
+            fa.other = &b.line, fb.other = &a.line;
+            el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), fa);
+            er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), fb);
+          }
         }
         c.angle = angle_between_deg(pr->ua, pr->ub);
         c.gap = (er.point - el.point).norm();
@@ -1774,9 +1920,10 @@ class Matcher {
         c.bp[4] = outer(b, pt(b.last));
         c.score = std::min(a.count(), b.count());
         c.pa = a, c.pb = b;
-        // The end faces in a notch, square to the outer faces at the edges.
-        c.add_line(Line{a.line.direction(), a.line.direction().dot(el.point)});
-        c.add_line(Line{b.line.direction(), b.line.direction().dot(er.point)});
+        // The end faces in a notch, square to the outer faces at the edges
+        // (or as seen).
+        c.add_line(el.face ? *el.face : Line{a.line.direction(), a.line.direction().dot(el.point)});
+        c.add_line(er.face ? *er.face : Line{b.line.direction(), b.line.direction().dot(er.point)});
         c.accepted = check(c, "angle", c.angle, cp.angle_deg, "deg") && check(c, "gap", c.gap, cp.gap_mm, "mm");
         // A notch whose points all lie within a rounding's or chamfer's
         // reach (kMaxRoundingMm) behind the faces is also what a closed
@@ -1814,8 +1961,8 @@ class Matcher {
                              (pt(b.last) - pt(b.first)).norm() > kClosedNotchFaces * notch_mm &&
                              no_gone_between(s_.cols[a.last], s_.cols[b.first]);
         if (closed_bottom) {
-          const Line end_a{a.line.direction(), a.line.direction().dot(el.point)};
-          const Line end_b{b.line.direction(), b.line.direction().dot(er.point)};
+          const Line end_a{a.line.direction(), a.line.direction().dot(el0.point)};
+          const Line end_b{b.line.direction(), b.line.direction().dot(er0.point)};
           int on_ends = 0;
           for (int i = from; i <= to; ++i) on_ends += std::min(end_a.distance(pt(i)), end_b.distance(pt(i))) <= tol_;
           closed_bottom = 2 * on_ends < to - from + 1;
@@ -1833,9 +1980,9 @@ class Matcher {
           if (closed_bottom) {
             // The notch is the closed reading's own: its rounded or
             // chamfered edges, between the faces' ends and behind both.
-            const Vec2 across = (er.point - el.point).normalized();
+            const Vec2 across = (er0.point - el0.point).normalized();
             closed.open_joint = true;
-            closed.opening = {el.point, er.point, across, -across, tol_, tol_};
+            closed.opening = {el0.point, er0.point, across, -across, tol_, tol_};
             closed.n_more = 0;
             closed.accepted = true, closed.failed = {};
           } else if (c.accepted) {

@@ -197,9 +197,13 @@ TEST_CASE("corpus: a shallow notch closed at its bottom is read at the apex", "[
   // on the surface and the notch's flanks meeting at a bottom. The open
   // reading put the track point between the notch's edges, 0.14-0.82 mm
   // below the apex, at confidence 1 (imprecise); the closed reading is the
-  // truth (JointTruth: B1 = B3 = the apex) within 0.001 mm, gap 0.
+  // truth (JointTruth: B1 = B3 = the apex) within 0.001 mm, gap 0. (With
+  // the end faces fitted, CornerParams::fit_end_faces, the open reading of
+  // seed 69 is right too: its arcs' ends fit the faces; "off" is the tracker
+  // before both.)
   tk::TrackerParams off;
   off.corner.closed_notch = false;
+  off.corner.fit_end_faces = false;
   check_right_with_option(vc::Joint::Corner, {2, 14, 30, 69, 80}, 0.001, off, tk::Outcome::Imprecise);
   for (const std::uint64_t seed : {2u, 14u, 30u, 69u, 80u}) {
     INFO("seed " << seed);
@@ -217,6 +221,27 @@ TEST_CASE("corpus: a closed corner's wide or finely cut notch is read at the ape
   tk::TrackerParams off;
   off.corner.closed_notch = false;
   check_right_with_option(vc::Joint::Corner, {9, 10, 13}, 0.002, off, tk::Outcome::Rejected);
+}
+
+TEST_CASE("corpus: an open corner's edges from its mitred end faces (session 27)", "[tracker][corpus]") {
+  // Seeds never read before (5,000,001 on), geometry only: corners with a
+  // gap between mitred ends. With the end faces taken square to the outer
+  // faces, the points seen on a mitred end face were projected square onto
+  // the outer face and the edges read off (imprecise, 0.12 mm off), or the
+  // reading explained too few points (rejected). Fitted as seen, or placed
+  // in the interval a rounding or chamfer leaves (CornerParams::
+  // fit_end_faces), they read right.
+  tk::TrackerParams off;
+  off.corner.fit_end_faces = false;
+  for (const std::uint64_t seed : {5000538u, 5001037u, 5001357u}) {
+    const ReadOne one = read_one(vc::Joint::Corner, seed, kIdealLevel);
+    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
+                 << one.scored.track_error_mm);
+    CHECK(one.profile.truth.has_tag("gap"));
+    CHECK(one.scored.outcome == tk::Outcome::Right);
+    CHECK(one.scored.track_error_mm < 0.03);
+    CHECK(read_one(vc::Joint::Corner, seed, kIdealLevel, off).scored.outcome != tk::Outcome::Right);
+  }
 }
 
 TEST_CASE("corpus: a lap's upper plate resting on its edge, off parallel", "[tracker][corpus]") {

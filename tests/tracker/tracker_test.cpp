@@ -247,6 +247,38 @@ TEST_CASE("corner: apex and angle and nearly collinear faces", "[tracker][corner
   CHECK(r.reason.rfind("too few segments", 0) == 0);
 }
 
+TEST_CASE("corner: a mitred end face seen at a slant places its plate's edge", "[tracker][corner]") {
+  // Two plates whose ends are mitred on the bisector (vertical here), 1 mm
+  // apart, inside angle 100 degrees, each outer edge chamfered 0.6 mm; the
+  // joint 20 mm to the sensor's left, so the rays through the gap see the
+  // left plate's end face (facing +y) down to about 5 mm. The edges
+  // (outer face x end face) are at (-20.5, 100) and (-19.5, 100).
+  const Vec2 el(-20.5, 100), er(-19.5, 100), down(0, 1);
+  const Vec2 left = synth::dir_deg(140.0), right = synth::dir_deg(40.0);
+  const double c = 0.6;
+  const auto p = synth::sample({{el + 60.0 * left, el + c * left},
+                                {el + c * left, el + c * down},
+                                {el + c * down, el + 15.0 * down},
+                                {er + c * down, er + 15.0 * down},
+                                {er + c * down, er + c * right},
+                                {er + c * right, er + 60.0 * right}});
+  const auto r = track(p, tk::JointType::Corner);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  INFO("B1 " << r.break_points[1]->transpose() << ", B3 " << r.break_points[3]->transpose());
+  // The seen face's line meets the outer face's: exact but for the float
+  // points.
+  CHECK((*r.break_points[1] - el).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(100.0).margin(1e-3));
+  // Square end faces assumed (before), the chamfer's points are taken for
+  // face points: the edge is read short of the chamfer's bottom.
+  tk::TrackerParams before;
+  before.corner.fit_end_faces = false;
+  const auto r0 = track(p, tk::JointType::Corner, before);
+  INFO("before: " << r0.reason << " B1 " << r0.break_points[1]->transpose());
+  CHECK((*r0.break_points[1] - el).norm() > 0.1);
+}
+
 TEST_CASE("corner: a dropout just before a plate edge does not move the edge", "[tracker][corner]") {
   // A square corner with a 1 mm gap: the plates' outer edges at (-0.5, 100)
   // and (0.5, 100), their square end faces meeting at (0, 100.5) (the notch).
