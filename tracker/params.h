@@ -171,6 +171,12 @@ struct LapParams {
   // line (noise can cut a plate in pieces; the piece at the step alone can be
   // several degrees off and fail the parallel test), as butt plates are.
   bool extend_plates = true;
+  // Long segments (of at least s_min points) that may lie between the
+  // plates, none of them on a plate's line: the edge face, and the upper
+  // plate's rounded or chamfered top edge cut in up to two pieces (1: the
+  // edge face alone, before 2026-11-28; a top edge's chamfer 2 mm wide is a
+  // long segment of its own, and the plates were not paired across it).
+  int max_between = 3;
   // The reading's evidence (Matcher::weigh) takes each plate on its own
   // line: an upper plate resting on its edge (on a bead, a burr, a gap at
   // one side) lies 0.5-3 degrees off the lower one, tens of microns off a

@@ -2001,11 +2001,15 @@ class Matcher {
       // (noise can cut a plate in pieces; the piece at the step alone can be
       // several degrees off).
       const Plate a = lp.extend_plates ? extended(q1, -1) : plate_of(seg(q1));
-      // The edge face may itself be a long segment between the plates.
-      for (int q2 = q1 + 1; q2 <= std::min(q1 + 2, n_long() - 1); ++q2) {
+      // The edge face may itself be a long segment between the plates, and
+      // so may the upper plate's rounded or chamfered top edge, in pieces
+      // (LapParams::max_between); none of them continues a plate.
+      for (int q2 = q1 + 1; q2 <= std::min(q1 + 1 + std::max(0, lp.max_between), n_long() - 1); ++q2) {
         const Plate b = lp.extend_plates ? extended(q2, +1) : plate_of(seg(q2));
         if (!near_enough(a, b) || acute_angle_deg(a.line, b.line) > lp.max_plate_angle_deg) continue;
-        if (q2 == q1 + 2 && continues_either(seg(q1 + 1), q1, q2)) continue;
+        bool between = false;
+        for (int m = q1 + 1; m < q2 && !between; ++m) between = continues_either(seg(m), q1, q2);
+        if (between) continue;
         bool upper_is_b;
         if (a.line.signed_distance(pt(b.first)) > tol_) upper_is_b = true;
         else if (b.line.signed_distance(pt(a.last)) > tol_) upper_is_b = false;

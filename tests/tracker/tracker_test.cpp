@@ -1235,6 +1235,28 @@ TEST_CASE("lap: foot, step and angle with the edge face in view", "[tracker][lap
   CHECK((*r.break_points[3] - Vec2(20, 96)).norm() < 1e-3);
 }
 
+TEST_CASE("lap: plates paired across the edge face and a wide chamfer", "[tracker][lap]") {
+  // Upper plate 8 mm thick on the lower plate (z = 100), its edge face at
+  // y = 25 (in view, 12 points) and its top edge chamfered 1.4 mm at 45
+  // degrees (10 points): two long segments between the plates. The foot
+  // (edge face x lower plate) is at (25, 100), the step 8 mm.
+  const auto p = synth::sample({{Vec2(-40, 100), Vec2(25, 100)},
+                                {Vec2(25, 100), Vec2(25, 93.4)},
+                                {Vec2(25, 93.4), Vec2(26.4, 92)},
+                                {Vec2(26.4, 92), Vec2(60, 92)}});
+  const auto r = track(p, tk::JointType::Lap);
+  INFO(r.reason);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.track_point - Vec2(25, 100)).norm() < 0.01);
+  CHECK(r.step_mm == Approx(8.0).margin(0.01));
+  CHECK(r.angle_deg == Approx(90.0).margin(0.1));
+  // With the edge face alone allowed between the plates (before), no pair.
+  tk::TrackerParams before;
+  before.lap.max_between = 1;
+  const auto r0 = track(p, tk::JointType::Lap, before);
+  CHECK(r0.status == tk::TrackStatus::Rejected);
+}
+
 TEST_CASE("lap: an edge face far from square to the upper plate is its edge preparation", "[tracker][lap]") {
   // The lap above with its edge face leaning: 5 degrees off square (a
   // sensor's pitch and yaw shear a square edge so) is the face, read with
