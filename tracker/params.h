@@ -276,6 +276,13 @@ struct VGrooveParams {
   // cuts a short piece off the top, or leaves one across the edge. The
   // pieces' points on the bevel's line and off the top's count for the bevel.
   bool short_bevel_across_pieces = true;
+  // A plate top is looked for past long segments within two roundings'
+  // reach (6 mm) of the bevel's end that are no top, and past a top no
+  // longer than that reach while a longer one follows: a rounded top edge
+  // cut into pieces of 8 points or more, some within 30 degrees of the top
+  // (false: the nearest long segment beside the bevel only; before
+  // 2026-11-28).
+  bool tops_past_rounding = true;
   // The plate tops are one plane: a pair of tops more than this far from
   // parallel has taken a bevel or a root face for a top (the nearest long
   // segment beside a bevel), and the reading is made without them (a short

@@ -3893,20 +3893,46 @@ class Matcher {
       // at an outside edge, roughly square to the groove's bisector.
       const Vec2 bisector = (pr->ua + pr->ub).normalized();
       const double max_tilt = std::sin(30.0 * kDeg);
+      // Past long segments within two roundings' reach of the bevel's end
+      // that are no top, or a top no longer than that reach while a longer
+      // one follows (VGrooveParams::tops_past_rounding). (Rounding pieces
+      // left between are explained by neither, as before.)
+      const bool past = vp.tops_past_rounding;
+      const double reach = 2.0 * kMaxRoundingMm;
       std::optional<Plate> tl, tr;
-      for (int q = n_long() - 1; q >= 0; --q) {
-        if (longs_[q] >= i0) continue;
-        if (const auto t = pair_of(plate_of(s_.segments[longs_[q]]), bl);
-            t && !t->valley && std::abs(t->a.line.direction().dot(bisector)) < max_tilt)
-          tl = t->a;
-        break;
+      {
+        std::optional<Plate> short_top;
+        for (int q = n_long() - 1; q >= 0; --q) {
+          if (longs_[q] >= i0) continue;
+          const Segment& sq = s_.segments[longs_[q]];
+          if (const auto t = pair_of(plate_of(sq), bl);
+              t && !t->valley && std::abs(t->a.line.direction().dot(bisector)) < max_tilt) {
+            if (!past || (pt(sq.last) - pt(sq.first)).norm() > reach) {
+              tl = t->a;
+              break;
+            }
+            if (!short_top) short_top = t->a;
+          }
+          if (!past || (pt(sq.last) - pt(bl.first)).norm() > reach) break;
+        }
+        if (!tl) tl = short_top;
       }
-      for (int q = 0; q < n_long(); ++q) {
-        if (longs_[q] <= j1) continue;
-        if (const auto t = pair_of(br, plate_of(s_.segments[longs_[q]]));
-            t && !t->valley && std::abs(t->b.line.direction().dot(bisector)) < max_tilt)
-          tr = t->b;
-        break;
+      {
+        std::optional<Plate> short_top;
+        for (int q = 0; q < n_long(); ++q) {
+          if (longs_[q] <= j1) continue;
+          const Segment& sq = s_.segments[longs_[q]];
+          if (const auto t = pair_of(br, plate_of(sq));
+              t && !t->valley && std::abs(t->b.line.direction().dot(bisector)) < max_tilt) {
+            if (!past || (pt(sq.last) - pt(sq.first)).norm() > reach) {
+              tr = t->b;
+              break;
+            }
+            if (!short_top) short_top = t->b;
+          }
+          if (!past || (pt(sq.first) - pt(br.last)).norm() > reach) break;
+        }
+        if (!tr) tr = short_top;
       }
       if ((i_short && !tl) || (j_short && !tr)) return;
       // The tops must be one plane: parallel (VGrooveParams::max_top_angle_deg)

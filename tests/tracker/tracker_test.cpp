@@ -1169,9 +1169,53 @@ TEST_CASE("v-groove: a dropout on each side of a top edge does not hide the corn
   CHECK(r.angle_deg == Approx(60.0).margin(1e-3));
   CHECK(r.depth_mm == Approx(depth).margin(spacing_at(100.0) / std::sin(half * std::numbers::pi / 180.0) + 1e-3));
   params.split_rough_segments = false;
+  // (Looking for the top past the segment across the edge,
+  // VGrooveParams::tops_past_rounding, reads it right without the split
+  // too; without both, not.)
+  params.vgroove.tops_past_rounding = false;
   const auto r2 = track(p, tk::JointType::VGroove, params);
   CHECK(!(r2.status == tk::TrackStatus::Ok && (*r2.break_points[1] - lt).norm() < 1e-3 &&
           std::abs(r2.angle_deg - 60.0) < 1e-3));
+}
+
+TEST_CASE("v-groove: a plate top found past its rounded top edge", "[tracker][vgroove]") {
+  // A narrow groove (30 degrees, 8 mm deep, 1.2 mm gap) with its first top
+  // edge rounded, radius 1 mm: an arc between the top and the bevel, long
+  // segments of its own, its chord 37.5 degrees off the top. The top edge
+  // (the top's and the bevel's lines meeting) is still at lt.
+  const double half = 15.0, depth = 8.0, gap = 1.2, radius = 1.0;
+  const double deg = std::numbers::pi / 180.0;
+  const double run = depth * std::tan(half * deg);
+  const Vec2 lr(-0.5 * gap, 100), rr(0.5 * gap, 100);
+  const Vec2 lt = lr + Vec2(-run, -depth), rt = rr + Vec2(run, -depth);
+  const Vec2 down_bevel = (lr - lt).normalized();
+  const double t = radius * std::tan(0.5 * (90.0 - half) * deg);  // tangent length: the edge turns 75 degrees
+  const Vec2 t1 = lt - t * Vec2(1, 0), t2 = lt + t * down_bevel, centre = t1 + Vec2(0, radius);
+  std::vector<synth::Piece> pieces{{Vec2(-80, 92), t1}};
+  const int n_arc = 40;
+  const double a0 = std::atan2(t1.y() - centre.y(), t1.x() - centre.x());
+  const double a1 = std::atan2(t2.y() - centre.y(), t2.x() - centre.x());
+  for (int k = 0; k < n_arc; ++k) {
+    const double u0 = a0 + (a1 - a0) * k / n_arc, u1 = a0 + (a1 - a0) * (k + 1) / n_arc;
+    pieces.push_back({centre + radius * Vec2(std::cos(u0), std::sin(u0)),
+                      centre + radius * Vec2(std::cos(u1), std::sin(u1))});
+  }
+  pieces.insert(pieces.end(), {{t2, lr}, {lr, Vec2(lr.x(), 101.5)}, {rr, Vec2(rr.x(), 101.5)}, {rr, rt},
+                               {rt, Vec2(80, 92)}});
+  const auto p = synth::sample(pieces, 2048);  // a 2,048-column sensor: the arc holds 8 points or more a piece
+  tk::TrackerParams params;
+  const auto r = track(p, tk::JointType::VGroove, params);
+  INFO(r.reason << ", " << r.segments.size() << " segments");
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  REQUIRE(r.break_points[1].has_value());
+  CHECK((*r.break_points[1] - lt).norm() < 1e-3);
+  CHECK(r.angle_deg == Approx(2.0 * half).margin(0.01));
+  // Without it the arc is the nearest long segment, no top: read without
+  // the first top (no B1).
+  params.vgroove.tops_past_rounding = false;
+  const auto r0 = track(p, tk::JointType::VGroove, params);
+  INFO("without: " << tk::to_string(r0.status) << " " << r0.reason << ", B1 " << r0.break_points[1].has_value());
+  CHECK(!(r0.status == tk::TrackStatus::Ok && r0.break_points[1] && (*r0.break_points[1] - lt).norm() < 1e-3));
 }
 
 TEST_CASE("v-groove: a tack weld in the root is no open root, a backing bar or root faces are", "[tracker][vgroove]") {
