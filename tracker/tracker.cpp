@@ -3899,41 +3899,24 @@ class Matcher {
       // left between are explained by neither, as before.)
       const bool past = vp.tops_past_rounding;
       const double reach = 2.0 * kMaxRoundingMm;
-      std::optional<Plate> tl, tr;
-      {
+      // dir -1: the top before bevel bl in scan order; +1: after br.
+      auto top_beside = [&](int dir) -> std::optional<Plate> {
+        const Plate& bevel = dir < 0 ? bl : br;
+        const Vec2& bevel_end = pt(dir < 0 ? bl.first : br.last);
         std::optional<Plate> short_top;
-        for (int q = n_long() - 1; q >= 0; --q) {
-          if (longs_[q] >= i0) continue;
+        for (int q = dir < 0 ? n_long() - 1 : 0; q >= 0 && q < n_long(); q += dir) {
+          if (dir < 0 ? longs_[q] >= i0 : longs_[q] <= j1) continue;
           const Segment& sq = s_.segments[longs_[q]];
-          if (const auto t = pair_of(plate_of(sq), bl);
-              t && !t->valley && std::abs(t->a.line.direction().dot(bisector)) < max_tilt) {
-            if (!past || (pt(sq.last) - pt(sq.first)).norm() > reach) {
-              tl = t->a;
-              break;
-            }
-            if (!short_top) short_top = t->a;
+          const auto t = dir < 0 ? pair_of(plate_of(sq), bevel) : pair_of(bevel, plate_of(sq));
+          if (t && !t->valley && std::abs((dir < 0 ? t->a : t->b).line.direction().dot(bisector)) < max_tilt) {
+            if (!past || (pt(sq.last) - pt(sq.first)).norm() > reach) return dir < 0 ? t->a : t->b;
+            if (!short_top) short_top = dir < 0 ? t->a : t->b;
           }
-          if (!past || (pt(sq.last) - pt(bl.first)).norm() > reach) break;
+          if (!past || (pt(dir < 0 ? sq.last : sq.first) - bevel_end).norm() > reach) break;
         }
-        if (!tl) tl = short_top;
-      }
-      {
-        std::optional<Plate> short_top;
-        for (int q = 0; q < n_long(); ++q) {
-          if (longs_[q] <= j1) continue;
-          const Segment& sq = s_.segments[longs_[q]];
-          if (const auto t = pair_of(br, plate_of(sq));
-              t && !t->valley && std::abs(t->b.line.direction().dot(bisector)) < max_tilt) {
-            if (!past || (pt(sq.last) - pt(sq.first)).norm() > reach) {
-              tr = t->b;
-              break;
-            }
-            if (!short_top) short_top = t->b;
-          }
-          if (!past || (pt(sq.first) - pt(br.last)).norm() > reach) break;
-        }
-        if (!tr) tr = short_top;
-      }
+        return short_top;
+      };
+      std::optional<Plate> tl = top_beside(-1), tr = top_beside(+1);
       if ((i_short && !tl) || (j_short && !tr)) return;
       // The tops must be one plane: parallel (VGrooveParams::max_top_angle_deg)
       // and apart by no more than the mismatch (a bead's cap deep in a thick
