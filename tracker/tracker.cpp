@@ -1256,15 +1256,15 @@ class Matcher {
   // from the deepest point (or the one before it: noise past a notch's
   // bottom) back while each point lies within the surface tolerance of the
   // line through the run so far. That run is the plate's own edge face when
-  // it has at least kFacePoints points, lies more than 20 degrees off the
-  // plate, reaches deeper than a rounding or chamfer can (kMaxRoundingMm),
-  // lies within kSquareFaceDeg of square to the plate or goes back under
-  // it, its seen side faces away from the plate (not the other plate's end
-  // seen through a gap, which faces back), a shallow one lies more than 5
-  // degrees off the rays, and it meets the plate's line past the points
-  // before it (the rounding or chamfer it runs into), within kMaxRoundingMm
-  // of the end. The edge is then where the two lines meet (Edge::face: the
-  // run's line).
+  // it has at least kFacePoints points; lies more than 20 degrees off the
+  // plate; reaches deeper than a rounding or chamfer can (kMaxRoundingMm),
+  // or else lies within kSquareFaceDeg of square to the plate or goes back
+  // under it; its seen side faces away from the plate (not the other
+  // plate's end seen through a gap, which faces back); lies more than 5
+  // degrees off the rays if it is that shallow; and meets the plate's line
+  // past the points before it (the rounding or chamfer it runs into),
+  // within kMaxRoundingMm of the end. The edge is then where the two lines
+  // meet (Edge::face: the run's line).
   // Otherwise, with `interval` and kFacePoints of the plate's own points
   // walked or more (a rounding or chamfer seen over several columns, not a
   // ray or two into a gap; up to the other plate's face where one was seen
