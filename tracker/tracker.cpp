@@ -106,7 +106,7 @@ struct Edge {
   Vec2 point = Vec2::Zero();
   double half_width_mm = 0.0;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  std::optional<Line> face;  // the edge face as seen and fitted (EdgeOptions::fit_face)
+  std::optional<Line> face = std::nullopt;  // the edge face as seen and fitted (EdgeOptions::fit_face)
 };
 
 // What a reading's points say for it (Matcher::weigh, docs/JOINTS.md
