@@ -106,7 +106,7 @@ struct Edge {
   Vec2 point = Vec2::Zero();
   double half_width_mm = 0.0;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  std::optional<Line> face = std::nullopt;  // the edge face as seen and fitted (EdgeOptions::fit_face)
+  std::optional<Line> face = std::nullopt;  // the edge face as seen and fitted (Matcher::seen_face)
 };
 
 // What a reading's points say for it (Matcher::weigh, docs/JOINTS.md
@@ -337,15 +337,6 @@ struct EdgeOptions {
   double max_width = kInf;
   const LineCov* line_cov = nullptr;
   int far_col = -1;
-  // The edge face may be seen at any slant (a corner's mitred end): where
-  // the points past the edge's rounding or chamfer (or past a sharp end)
-  // end in a run on one line that is its face, the edge is that line's
-  // meeting with the plate's (Matcher::seen_face).
-  bool fit_face = false;
-  const Line* other = nullptr;  // the other plate's line: its points are no edge face
-  // With fit_face and no face seen but points past the end: the edge is
-  // placed in the interval they leave (Matcher::seen_face).
-  bool face_interval = false;
 };
 
 class Matcher {
@@ -1190,8 +1181,6 @@ class Matcher {
                                rd.along + kMaxRoundingMm);
       width = std::max(width, r + tol_);
     }
-    if (opt.fit_face)
-      if (const auto e = seen_face(pl, near, dir, beyond_col, line_cov, opt.other, opt.face_interval)) return *e;
     if (face_dir && p_.square_edges) {
       Vec2 sum = Vec2::Zero();
       int k = 0;
@@ -1265,7 +1254,7 @@ class Matcher {
   // past the points before it (the rounding or chamfer it runs into),
   // within kMaxRoundingMm of the end. The edge is then where the two lines
   // meet (Edge::face: the run's line).
-  // Otherwise, with `interval` and kFacePoints of the plate's own points
+  // Otherwise, with kFacePoints of the plate's own points
   // walked or more (a rounding or chamfer seen over several columns, not a
   // ray or two into a gap; up to the other plate's face where one was seen
   // through the gap): the edge lies past all of them and short of where the
@@ -1275,17 +1264,14 @@ class Matcher {
   // plate short of the points before it): nothing.
   static constexpr int kFacePoints = 4;
   static constexpr double kSquareFaceDeg = 15.0;
-  std::optional<Edge> seen_face(const Plate& pl, const Vec2& near, const Vec2& dir, int beyond_col,
-                                const LineCov* line_cov, const Line* other, bool interval) const {
-    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), beyond_col);
-    if (it == s_.cols.end() || *it != beyond_col) return std::nullopt;
+  // `end_point`, `beyond_col`: as edge_at's; `other`: the other plate's line.
+  std::optional<Edge> seen_face(const Plate& pl, const Vec2& end_point, int beyond_col, const Line* other) const {
+    const Vec2 near = pl.line.project(end_point);
+    const Vec2 dir = outward(pl, near);
+    const auto start = walk_start(beyond_col, near, dir);
+    if (!start) return std::nullopt;
+    const auto [i0, step] = *start;
     const int n = static_cast<int>(s_.points.size());
-    const int i0 = static_cast<int>(it - s_.cols.begin());
-    // The walk's direction: away from the plate, as rounding() walks.
-    const int step = (pt(i0) - near).dot(dir) >= 0.0 && i0 + 1 < n &&
-                             (pt(i0 + 1) - near).dot(dir) >= (pt(i0) - near).dot(dir)
-                         ? +1
-                         : -1;
     int last = -1;
     double deepest = 0.0;
     for (int i = i0, prev_col = beyond_col - step;
@@ -1299,7 +1285,7 @@ class Matcher {
       if (d > deepest + 0.5 * tol_ || last < 0) deepest = d, last = i;  // the walk ends at its deepest point
     }
     if (last < 0) return std::nullopt;
-    const LineCov lc = line_cov ? *line_cov : cov_of(pl);
+    const LineCov lc = cov_of(pl);
     // How far along the walked points reach, up to (not including) `stop`.
     const auto reach_to = [&](int stop) {
       double r = 0.0;
@@ -1309,7 +1295,7 @@ class Matcher {
     // end: the last of the plate's own points walked (the one before the
     // other plate's face, where one was seen through a gap).
     const auto in_interval = [&](int end) -> std::optional<Edge> {
-      if (!interval || std::abs(end - i0) + 1 < kFacePoints) return std::nullopt;
+      if (std::abs(end - i0) + 1 < kFacePoints) return std::nullopt;
       const double lo = reach_to(end + step);
       double hi = lo;
       if (const auto x = ray_hit(s_.cols[end] + step, pl.line)) hi = std::max(hi, (*x - near).dot(dir));
@@ -1369,6 +1355,21 @@ class Matcher {
                 face};
   }
 
+  // Where a walk past a plate's end starts (rounding(), seen_face()): the
+  // kept point of column beyond_col, and the direction (+1, -1) in point
+  // order that leads away from the plate's end `near` along `dir`. Empty
+  // if that column holds no kept point.
+  std::optional<std::pair<int, int>> walk_start(int beyond_col, const Vec2& near, const Vec2& dir) const {
+    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), beyond_col);
+    if (it == s_.cols.end() || *it != beyond_col) return std::nullopt;
+    const int i = static_cast<int>(it - s_.cols.begin());
+    const int n = static_cast<int>(s_.points.size());
+    const int step = (pt(i) - near).dot(dir) >= 0.0 && i + 1 < n && (pt(i + 1) - near).dot(dir) >= (pt(i) - near).dot(dir)
+                         ? +1
+                         : -1;
+    return std::pair{i, step};
+  }
+
   // Rounded and chamfered edges are at most this wide (mm).
   static constexpr double kMaxRoundingMm = 3.0;
   // A closed corner's faces are each this many times longer than its
@@ -1385,13 +1386,10 @@ class Matcher {
   // within kMaxRoundingMm.
   Rounding rounding(const Plate& pl, const Vec2& near, const Vec2& dir, int beyond_col) const {
     Rounding rd;
-    const auto it = std::lower_bound(s_.cols.begin(), s_.cols.end(), beyond_col);
-    if (it == s_.cols.end() || *it != beyond_col) return rd;
-    int i = static_cast<int>(it - s_.cols.begin());
+    const auto start = walk_start(beyond_col, near, dir);
+    if (!start) return rd;
+    auto [i, step] = *start;
     const int n = static_cast<int>(s_.points.size());
-    const int step = (pt(i) - near).dot(dir) >= 0.0 && i + 1 < n && (pt(i + 1) - near).dot(dir) >= (pt(i) - near).dot(dir)
-                         ? +1
-                         : -1;
     for (int prev_col = beyond_col - step; i >= 0 && i < n && s_.cols[i] == prev_col + step; prev_col = s_.cols[i], i += step) {
       const double a = (pt(i) - near).dot(dir), h = -pl.line.signed_distance(pt(i));
       if (h <= tol_ || a < -tol_ || a > kMaxRoundingMm) break;
@@ -1891,20 +1889,17 @@ class Matcher {
           };
           const int a_end = reach(a, pr->ua, a.last, +1, b.first);
           const int b_end = reach(b, pr->ub, b.first, -1, a_end);
-          const EdgeOptions oa{.far_col = first_missed(a.line, b.line, s_.cols[a_end] + 1, +1)};
-          const EdgeOptions ob{.far_col = first_missed(b.line, a.line, s_.cols[b_end] - 1, -1)};
-          el = el0 = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), oa);
-          er = er0 = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), ob);
+          el = el0 = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1),
+                             {.far_col = first_missed(a.line, b.line, s_.cols[a_end] + 1, +1)});
+          er = er0 = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1),
+                             {.far_col = first_missed(b.line, a.line, s_.cols[b_end] - 1, -1)});
           if (cp.fit_end_faces) {
             // The end faces as seen, at any slant, or the interval their
             // rounding or chamfer leaves (seen_face); square end faces as
             // before where neither is seen. The closed notch's test below
             // keeps the square faces' edges (el0, er0).
-            EdgeOptions fa = oa, fb = ob;
-            fa.fit_face = fb.fit_face = fa.face_interval = fb.face_interval = true;
-            fa.other = &b.line, fb.other = &a.line;
-            el = edge_at(a, pt(a_end), s_.cols[a_end] + 1, &a.line.n, span_of(a_end + 1, b_end - 1), fa);
-            er = edge_at(b, pt(b_end), s_.cols[b_end] - 1, &b.line.n, span_of(a_end + 1, b_end - 1), fb);
+            if (const auto e = seen_face(a, pt(a_end), s_.cols[a_end] + 1, &b.line)) el = *e;
+            if (const auto e = seen_face(b, pt(b_end), s_.cols[b_end] - 1, &a.line)) er = *e;
           }
         }
         c.angle = angle_between_deg(pr->ua, pr->ub);
