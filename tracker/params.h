@@ -352,6 +352,29 @@ struct GrooveParams {
   // Narrower notches than this in the bottom (a root gap, the rays into it)
   // are closed at their shoulders: the groove's bottom is the root edges' level.
   double max_notch_mm = 4.0;
+  // A U's or J's radius is no notch (U and J grooves): a notch whose inside
+  // (6 points or more) is one circle, its points' rms within the surface
+  // tolerance, that the bottom beside it on one side goes on along (the
+  // shoulder and up to 3 points beyond it within 2 tolerances of the
+  // circle) is kept as seen, unless the polyline's end there is the toe of
+  // a wall not seen (placed from its top's edge) and off the circle. With
+  // the plates' mismatch at a closed root, the lower plate's half of the
+  // bottom is such a bowl (1-2 mm deep, 3-4 mm wide): closed at its
+  // shoulders, B3 lay on the upper level, 1-2 mm from the root.
+  bool radius_not_notch = true;
+  // The bottom's steps (docs/JOINTS.md "Session 28"): where the polyline
+  // joins two seen points (no closed notch) steeper than 2:1 whose levels,
+  // each from up to 3 points, differ by more than
+  // ConfidenceParams::track_interval_mm, and B3's place along the tops
+  // (midway between the toes) lies within 3 of its standard deviations of
+  // that piece, B3's depth is not known (a closed root with the plates'
+  // mismatch: the line midway between the toes meets either level) and the
+  // reading is rejected as uncertain. And B3 beside such a step rests on
+  // the bottom, not on a reflection cluster, when its piece lies inside a
+  // run of the polyline with no two neighbours farther apart than the
+  // support check's 0.5 mm, of more points than a cluster and at least
+  // 1.5 mm long (along the tops).
+  bool bottom_steps = true;
   // The v-groove is read by its own template and by this model. With
   // vgroove_fill (beads are laid in it: multi-pass welding; `vts track
   // --fill`) the model's reading stands unless the template's top edges and

@@ -342,8 +342,10 @@ struct EdgeOptions {
 class Matcher {
  public:
   Matcher(const Segmentation& s, const TrackerParams& p, const std::vector<int>& longs, std::vector<Vec2>& scratch,
-          std::vector<int>& bevels, std::vector<std::uint8_t>& off_plates, std::vector<int>& next_long)
+          std::vector<int>& bevels, std::vector<std::uint8_t>& off_plates, std::vector<int>& next_long,
+          std::vector<int>& closed)
       : s_(s), p_(p), longs_(longs), scratch_(scratch), bevels_(bevels), off_plates_(off_plates), next_long_(next_long),
+        closed_(closed),
         origin_(p.segmentation.ray_origin_yz), tol_(p.surface_tol_mm),
         sigma_(std::max(p.surface_tol_mm / std::max(1.0, p.noise.surface_k), 1e-6)) {
     // cost()'s bounds, and the distance up to which it is 0 found with its
@@ -467,6 +469,7 @@ class Matcher {
   std::vector<int>& bevels_;
   std::vector<std::uint8_t>& off_plates_;  // per column: looks like a ray into a gap (events_between)
   std::vector<int>& next_long_;            // scratch of the constructor
+  std::vector<int>& closed_;               // the pieces of a groove's bottom polyline that close a notch
   Vec2 origin_;
   double tol_;
   double sigma_;  // the noise across the surface, for the evidence (Matcher::weigh)
@@ -3248,7 +3251,8 @@ class Matcher {
     }
     poly.push_back(b4);
     drop_clusters(poly, along, down);
-    close_notches(poly, along, down, gp.max_notch_mm);
+    const bool hidden_toe[2] = {!wa, !wb};
+    close_notches(poly, along, down, gp.max_notch_mm, gp.bottom_steps ? &closed_ : nullptr, hidden_toe);
     // B3: the bottom midway between the toes. It must rest on the bottom as
     // seen: the polyline's piece under it no longer than a notch (a root
     // gap closed at its shoulders, a dropout run); a longer piece joins
@@ -3272,8 +3276,31 @@ class Matcher {
     const double var_u = 0.25 * (along.dot(c2 * along) + along.dot(c4 * along));
     Eigen::Matrix2d b3_cov = var_u * along * along.transpose() +
                              0.5 * (down_var(0) + down_var(poly.size() - 1)) * down * down.transpose();
+    // B3 at a step of the bottom (GrooveParams::bottom_steps): a piece
+    // joining two seen points (no closed notch), steeper than 2:1, between
+    // levels (each from up to 3 points) farther apart than
+    // track_interval_mm, within 3 standard deviations of B3's place along
+    // the tops: a closed root with the plates' mismatch, whose track point
+    // the line midway between the toes puts on either level.
+    const double reach_u = 3.0 * std::sqrt(std::max(0.0, var_u));
+    std::size_t step_k = poly.size();
+    auto at_step = [&](std::size_t k, double u0, double u1) {
+      if (!gp.bottom_steps || step_k < poly.size() || u_mid < std::min(u0, u1) - reach_u ||
+          u_mid > std::max(u0, u1) + reach_u ||
+          std::binary_search(closed_.begin(), closed_.end(), static_cast<int>(k)))
+        return;
+      const Vec2 e = poly[k + 1] - poly[k];
+      const double rise = std::abs(e.dot(down)), limit = p_.confidence.track_interval_mm;
+      if (rise <= limit || rise <= 2.0 * std::abs(e.dot(along))) return;
+      double s0 = 0.0, s1 = 0.0;  // the levels: mean depths of up to 3 points on each side
+      int n0 = 0, n1 = 0;
+      for (std::size_t m = k + 1; m-- > 0 && n0 < 3;) s0 += poly[m].dot(down), ++n0;
+      for (std::size_t m = k + 1; m < poly.size() && n1 < 3; ++m) s1 += poly[m].dot(down), ++n1;
+      if (n0 >= 2 && n1 >= 2 && std::abs(s1 / n1 - s0 / n0) > limit) step_k = k;
+    };
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
+      at_step(k, u0, u1);
       if (u0 <= u_mid && u1 >= u_mid) {
         const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
@@ -3292,8 +3319,20 @@ class Matcher {
         }
         b3_cov = var_u * g * g.transpose() +
                  ((1.0 - t) * (1.0 - t) * down_var(k) + t * t * down_var(k + 1)) * down * down.transpose();
+        for (std::size_t m = k + 1; m + 1 < poly.size() && gp.bottom_steps && step_k == poly.size(); ++m)
+          at_step(m, (poly[m] - b1).dot(along), (poly[m + 1] - b1).dot(along));
         break;
       }
+    }
+    if (step_k < poly.size()) {
+      std::snprintf(c.reason, sizeof c.reason,
+                    "uncertain: the track point lies at a step of %.3g mm in the groove's bottom (a closed root's "
+                    "mismatch?)",
+                    std::abs((poly[step_k + 1] - poly[step_k]).dot(down)));
+      c.track = 0.5 * (b2 + b4);
+      c.uncertain = true;
+      offer(c);
+      return;
     }
     if (under > gp.max_notch_mm) {
       std::snprintf(c.reason, sizeof c.reason,
@@ -3352,7 +3391,23 @@ class Matcher {
         for (std::size_t k = lo_k; k <= hi_k; k += every) in += l.distance(poly[k]) <= off_mm;
         if (in > best_in) best_in = in, best_line = l;
       }
-      if (best_in >= 3 && (best_line.distance(poly[under_k]) > off_mm || best_line.distance(poly[under_k + 1]) > off_mm)) {
+      // B3's piece inside a run of the polyline with no neighbours farther
+      // apart than off_mm, of more points than a reflection cluster and at
+      // least kB3SupportMm long, rests on the bottom (beside a step:
+      // GrooveParams::bottom_steps), not on a cluster.
+      auto on_bottom = [&] {
+        if (!gp.bottom_steps) return false;
+        auto apart = [&](std::size_t k) { return (poly[k + 1] - poly[k]).squaredNorm() > off_mm * off_mm; };
+        if (apart(under_k)) return false;
+        std::size_t r0 = under_k, r1 = under_k + 1;
+        while (r0 > 0 && !apart(r0 - 1)) --r0;
+        while (r1 + 1 < poly.size() && !apart(r1)) ++r1;
+        return static_cast<int>(r1 - r0 + 1) > max_cluster_run() &&
+               std::abs((poly[r1] - poly[r0]).dot(along)) >= kB3SupportMm;
+      };
+      if (best_in >= 3 &&
+          (best_line.distance(poly[under_k]) > off_mm || best_line.distance(poly[under_k + 1]) > off_mm) &&
+          !on_bottom()) {
         std::snprintf(c.reason, sizeof c.reason,
                       "the track point rests on points %.3g mm off the groove's bottom beside it (a reflection?)",
                       std::max(best_line.distance(poly[under_k]), best_line.distance(poly[under_k + 1])));
@@ -3587,7 +3642,14 @@ class Matcher {
   // between its shoulders, the deepest by half its width or more: the points
   // go between
   // the shoulders (a root gap: the bottom is at the root edges' level).
-  void close_notches(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down, double max_mm) const {
+  // `closed` (if given): the pieces of the polyline left that close a notch
+  // (the index of each one's first point, ascending). `hidden_toe`: whether the polyline's first and last points
+  // are the toes of walls not seen (GrooveParams::radius_not_notch).
+  [[gnu::noinline]] void close_notches(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down, double max_mm,
+                     std::vector<int>* closed = nullptr, const bool* hidden_toe = nullptr) const {
+    const bool radius = p_.groove.radius_not_notch &&
+                        (p_.joint == JointType::UGroove || p_.joint == JointType::JGroove);
+    if (closed) closed->clear();
     std::size_t out = 0;
     for (std::size_t i = 0; i < poly.size();) {
       poly[out++] = poly[i];
@@ -3671,6 +3733,28 @@ class Matcher {
         // (a U's radius) is no notch.
         if (below && deepest >= std::max(0.5 * du, 2.0 * tol_)) best = j;
       }
+      // A U's or J's radius (GrooveParams::radius_not_notch): the inside one
+      // circle that the bottom on one side goes on along.
+      if (radius && best >= i + 7) {
+        const auto f = fit_circle(std::span<const Vec2>(poly.data() + i + 1, best - i - 1), poly[i]);
+        bool bowl = false;
+        if (f && f->rms <= tol_) {
+          auto on = [&](const Vec2& q) { return std::abs((q - f->centre).norm() - f->rho) <= 2.0 * tol_; };
+          const bool on_i = on(poly[i]), on_b = on(poly[best]);
+          bool before = on_i, after = on_b;  // the kept points before (poly[out - 1] is poly[i])
+          for (std::size_t m = out >= 4 ? out - 4 : 0; m + 1 < out && before; ++m) before = on(poly[m]);
+          for (std::size_t m = best + 1; m < std::min(poly.size(), best + 4) && after; ++m) after = on(poly[m]);
+          const bool toe_off = hidden_toe && ((i == 0 && !on_i && hidden_toe[0]) ||
+                                              (best + 1 == poly.size() && !on_b && hidden_toe[1]));
+          bowl = (before || after) && !toe_off;
+        }
+        if (bowl) {  // kept as seen: on from its last point inside
+          for (std::size_t m = i + 1; m + 1 < best - 1; ++m) poly[out++] = poly[m];
+          i = best - 1;
+          continue;
+        }
+      }
+      if (closed && best > i + 1) closed->push_back(static_cast<int>(out - 1));
       i = best;
     }
     poly.resize(out);
@@ -4336,7 +4420,7 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     return;
   }
   Candidate best;
-  Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_, next_long_);
+  Matcher m(seg_, p, long_, scratch_, bevels_, off_plates_, next_long_, closed_);
   m.set_point_sigma(point_sigma);
   if (!m.run(params_.joint, best, prior)) {
     if (prior && std::isfinite(m.outside_mm())) {

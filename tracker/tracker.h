@@ -147,6 +147,7 @@ class Tracker {
   std::vector<int> bevels_;
   std::vector<std::uint8_t> off_plates_;
   std::vector<int> next_long_;
+  std::vector<int> closed_;
   std::vector<std::pair<double, int>> rms_;
 };
 

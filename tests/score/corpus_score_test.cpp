@@ -244,6 +244,53 @@ TEST_CASE("corpus: an open corner's edges from its mitred end faces (session 27)
   }
 }
 
+TEST_CASE("corpus: a U's or J's radius beside a closed root's mismatch is no notch (session 28)",
+          "[tracker][corpus][groove]") {
+  // Seeds never read before (5,000,001 on), geometry only. U grooves closed
+  // at the root with the plates' mismatch (1.9 mm), a J with a mismatch
+  // over a backing bar: the lower plate's half of the bottom, a radius
+  // 1-2 mm deep and 3-4 mm wide, was closed at its shoulders as a root
+  // gap's notch, and B3 lay on the closing line, 1.4-1.9 mm from the root
+  // (false reads). Kept as seen (GrooveParams::radius_not_notch), the line
+  // midway between the toes meets the radius: right.
+  tk::TrackerParams off;
+  off.groove.radius_not_notch = false;
+  const std::pair<vc::Joint, std::uint64_t> cases[] = {
+      {vc::Joint::UGroove, 5000197}, {vc::Joint::UGroove, 5001214}, {vc::Joint::JGroove, 5000878}};
+  for (const auto& [joint, seed] : cases) {
+    const ReadOne one = read_one(joint, seed, kIdealLevel);
+    INFO(vc::joint_name(joint) << " seed " << seed << ": " << tk::to_string(one.result.status) << " "
+                               << one.result.reason << ", error " << one.scored.track_error_mm);
+    CHECK(one.profile.truth.has_tag("mismatch"));
+    CHECK(one.scored.outcome == tk::Outcome::Right);
+    CHECK(one.scored.track_error_mm < 0.02);
+    CHECK(read_one(joint, seed, kIdealLevel, off).scored.outcome == tk::Outcome::False);
+  }
+}
+
+TEST_CASE("corpus: a U's track point at its closed root's step is uncertain (session 28)",
+          "[tracker][corpus][groove]") {
+  // Seeds never read before, geometry only: U grooves closed at the root
+  // with the plates' mismatch, the step between the two halves' bottoms
+  // (1.15 and 1.26 mm) within 3 standard deviations of B3's place along
+  // the tops (midway between the toes): the line from there meets one level
+  // or the other as the toes move by less than their uncertainty. With the lower
+  // half closed as a notch (both options off) they were false reads 1.1-1.3
+  // mm off. At the step B3's depth is not known (GrooveParams::
+  // bottom_steps): rejected as uncertain.
+  tk::TrackerParams neither;
+  neither.groove.bottom_steps = false;
+  neither.groove.radius_not_notch = false;
+  for (const std::uint64_t seed : {5000296u, 5000427u}) {
+    const ReadOne one = read_one(vc::Joint::UGroove, seed, kIdealLevel);
+    INFO("seed " << seed << ": " << tk::to_string(one.result.status) << " " << one.result.reason);
+    CHECK(one.profile.truth.has_tag("mismatch"));
+    CHECK(one.result.status == tk::TrackStatus::Rejected);
+    CHECK(one.result.reason.find("at a step") != std::string::npos);
+    CHECK(read_one(vc::Joint::UGroove, seed, kIdealLevel, neither).scored.outcome == tk::Outcome::False);
+  }
+}
+
 TEST_CASE("corpus: a lap's upper plate resting on its edge, off parallel", "[tracker][corpus]") {
   // Development seeds, geometry only, the upper plate tilted 0.5-3 degrees
   // (the corpus' `tilt`), read within 0.1 mm, were rejected as
