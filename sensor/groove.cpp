@@ -365,7 +365,8 @@ void add_side(const Shape& s, const Wall& wall, Map to_joint, double length_mm, 
 // convex quadrilateral (a triangle at a toe).
 void add_fill(const Shape& s, double length_mm, Workpiece& w) {
   const std::vector<Vec2> wa = s.a.polyline(), wb = s.b.polyline();
-  const auto [toe_a, toe_b] = fill_toes(s, true);
+  const std::pair<Vec2, Vec2> toes = fill_toes(s, true);
+  const Vec2 toe_a = toes.first, toe_b = toes.second;  // (no structured binding: clang 14 cannot capture one)
   const std::vector<Vec2> cap = Cap(toe_a, toe_b, s.crown, s.tilted).polyline();
   // The walls in the joint frame by rising y.
   std::vector<Vec2> floor_a, floor_b;

@@ -1273,7 +1273,7 @@ class Matcher {
     const Vec2 dir = outward(pl, near);
     const auto start = walk_start(beyond_col, near, dir);
     if (!start) return std::nullopt;
-    const auto [i0, step] = *start;
+    const int i0 = start->first, step = start->second;  // (no structured binding: clang 14 cannot capture one)
     const int n = static_cast<int>(s_.points.size());
     int last = -1;
     double deepest = 0.0;

@@ -1,16 +1,17 @@
 // libFuzzer target: the tracker on arbitrary profiles. The bytes decode into a
-// joint, some parameter variation (inside the ranges `vts track --params`
-// accepts) and up to 4096 points: raw floats, NaN, infinities, huge and tiny
-// values, duplicates, invalid flags and plausible plate-like runs. Contract:
-// no crash or undefined behaviour; the status is one of the three; an Ok
-// result has a finite track point and finite break points and no reason; a
-// Rejected one says why; tracking the same profile again (scratch memory
-// reused) gives the same result bit for bit.
+// joint (any of the eight, the groove model's too), some parameter variation
+// (inside the ranges `vts track --params` accepts) and up to 4096 points: raw
+// floats, NaN, infinities, huge and tiny values, duplicates, invalid flags and
+// plausible plate-like runs. Contract: no crash or undefined behaviour; the
+// status is one of the three; an Ok result has a finite track point and finite
+// break points and no reason; a Rejected one says why; tracking the same
+// profile again (scratch memory reused) gives the same result bit for bit.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -59,7 +60,7 @@ bool finite(const tk::Vec2& p) { return std::isfinite(p.x()) && std::isfinite(p.
 
 tk::TrackerParams decode_params(Bytes& b) {
   tk::TrackerParams p;
-  p.joint = tk::kAllJointTypes[b.u8() % 5];
+  p.joint = tk::kAllJointTypes[b.u8() % std::size(tk::kAllJointTypes)];
   const std::uint8_t flags = b.u8();
   if (flags & 0x80) {  // leave the defaults unless asked
     auto& o = p.segmentation.outliers;
