@@ -372,8 +372,8 @@ struct GrooveParams {
   // reading is rejected as uncertain. And B3 beside such a step rests on
   // the bottom, not on a reflection cluster, when its piece lies inside a
   // run of the polyline with no two neighbours farther apart than the
-  // support check's 0.5 mm, of more points than a cluster and at least
-  // 1.5 mm long (along the tops).
+  // support check's offset (0.5 mm, or 3 surface tolerances if more), of
+  // more points than a cluster and at least 1.5 mm long (along the tops).
   bool bottom_steps = true;
   // The v-groove is read by its own template and by this model. With
   // vgroove_fill (beads are laid in it: multi-pass welding; `vts track

@@ -3643,10 +3643,12 @@ class Matcher {
   // go between
   // the shoulders (a root gap: the bottom is at the root edges' level).
   // `closed` (if given): the pieces of the polyline left that close a notch
-  // (the index of each one's first point, ascending). `hidden_toe`: whether the polyline's first and last points
-  // are the toes of walls not seen (GrooveParams::radius_not_notch).
+  // (the index of each one's first point, ascending). `hidden_toe`: whether
+  // the polyline's first and last points are the toes of walls not seen
+  // (GrooveParams::radius_not_notch). Kept out of groove_pair
+  // (docs/PERFORMANCE.md, session 28).
   [[gnu::noinline]] void close_notches(std::vector<Vec2>& poly, const Vec2& along, const Vec2& down, double max_mm,
-                     std::vector<int>* closed = nullptr, const bool* hidden_toe = nullptr) const {
+                                       std::vector<int>* closed = nullptr, const bool* hidden_toe = nullptr) const {
     const bool radius = p_.groove.radius_not_notch &&
                         (p_.joint == JointType::UGroove || p_.joint == JointType::JGroove);
     if (closed) closed->clear();
@@ -3748,8 +3750,8 @@ class Matcher {
                                               (best + 1 == poly.size() && !on_b && hidden_toe[1]));
           bowl = (before || after) && !toe_off;
         }
-        if (bowl) {  // kept as seen: on from its last point inside
-          for (std::size_t m = i + 1; m + 1 < best - 1; ++m) poly[out++] = poly[m];
+        if (bowl) {  // kept as seen: its points up to the last inside one, which the loop takes next
+          for (std::size_t m = i + 1; m + 1 < best; ++m) poly[out++] = poly[m];
           i = best - 1;
           continue;
         }
