@@ -79,8 +79,14 @@ CameraModel camera_model(const ScannerDesc& desc);
 // Image row (px from the principal point, along the triangulation direction)
 // of a lit point at depth z_mm, and the depth that a row maps back to (<= 0
 // when the row is at or beyond the vanishing row u_inf).
-double image_row_px(const CameraModel& cam, double z_mm);
-double depth_of_row_mm(const CameraModel& cam, double row_px);
+// Inline: the error model's per-column loop (cloned for AVX2 and AVX-512)
+// calls them, and GCC does not inline an out-of-line function built for the
+// baseline into a clone, so the loop would not vectorize.
+inline double image_row_px(const CameraModel& cam, double z_mm) { return cam.u_inf_px - cam.k_mm_px / z_mm; }
+inline double depth_of_row_mm(const CameraModel& cam, double row_px) {
+  const double den = cam.u_inf_px - row_px;
+  return den > 0.0 ? cam.k_mm_px / den : 0.0;
+}
 
 // Closed-form predictions of the model from the geometry alone (used by
 // `vts sensors` and held against measurement by the tests):
