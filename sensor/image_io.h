@@ -37,6 +37,20 @@ struct GreyImage {
 //   pixel (grey stored as RGB, said in `note`), otherwise refused as colour.
 // Throws ImageError naming the file: missing or unreadable file, colour
 // image, other pixel types (signed, 32-bit integer), deep or volume images.
+//
+// The reading is done by a module, libvts_image_oiio.so, loaded on the
+// first call (OpenImageIO's 260 libraries would cost every program that
+// links vts_sensor 0.2 s at its start). It is looked for in
+// $VTS_IMAGE_MODULE (a file) when that is set, else beside the executable
+// (where the build puts it), in ../lib/vts from there, and on the library
+// search path; not found, the ImageError says where it looked.
 GreyImage read_grey_image(const std::filesystem::path& path);
+
+// The module's interface (sensor/image_module/oiio_reader.cpp), checked
+// when it is loaded: bump on any change of GreyImage or of the functions
+//   int vts_image_module_abi();
+//   int vts_image_module_read(const char* path, GreyImage* out, std::string* error);
+inline constexpr int kImageModuleAbi = 1;
+inline constexpr const char* kImageModuleFile = "libvts_image_oiio.so";
 
 }  // namespace vts

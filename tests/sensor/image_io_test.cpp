@@ -5,6 +5,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -111,4 +112,23 @@ TEST_CASE("grey stored as RGB is read, colour and other layouts are refused", "[
   CHECK_THAT(error_of(dir.path / "missing.png"), Catch::EndsWith("missing.png: no such file"));
   std::ofstream(dir.path / "text.png") << "not an image\n";
   CHECK_THAT(error_of(dir.path / "text.png"), Catch::Contains("text.png: cannot read as an image"));
+}
+
+TEST_CASE("the image module: found beside the executable, or a clear message naming where it was looked for",
+          "[image_io]") {
+  vts::test::TempDir dir("vts_image_module");
+  const std::vector<std::uint8_t> px = {7, 9};
+  write(dir.path / "a.png", 2, 1, 1, OIIO::TypeDesc::UINT8, px.data());
+  // The programs do not link OpenImageIO themselves: the module does.
+  CHECK(vts::read_grey_image(dir.path / "a.png").pixels == std::vector<std::uint16_t>{7, 9});
+  const fs::path missing = dir.path / "no-such-module.so";
+  ::setenv("VTS_IMAGE_MODULE", missing.c_str(), 1);
+  const std::string e = error_of(dir.path / "a.png");
+  CHECK_THAT(e, Catch::StartsWith((dir.path / "a.png").string() + ": reading images needs vts's OpenImageIO module"));
+  CHECK_THAT(e, Catch::Contains("no-such-module.so"));
+  std::ofstream(dir.path / "fake.so") << "not a library\n";
+  ::setenv("VTS_IMAGE_MODULE", (dir.path / "fake.so").c_str(), 1);
+  CHECK_THAT(error_of(dir.path / "a.png"), Catch::Contains("fake.so"));
+  ::unsetenv("VTS_IMAGE_MODULE");
+  CHECK(vts::read_grey_image(dir.path / "a.png").pixels == std::vector<std::uint16_t>{7, 9});
 }
