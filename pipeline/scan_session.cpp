@@ -82,15 +82,39 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
   out.ideal_ref.resize(reference_ ? count : 0);
   out.measured_ref.resize(reference_ && model ? count : 0);
   if (!image_mode() || !keep_images_) out.images.clear();  // none left from an earlier scan into `out`
+  auto stamp = [&](Profile& p, std::size_t k) {
+    p.world_from_sensor = requests[k].world_from_sensor;
+    p.time_s = requests[k].time_s;
+    p.index = requests[k].index;
+  };
+  if (!image_mode() && !reference_) {
+    // Each part scans its profiles and applies the error model to them at
+    // once: one wait per batch instead of two, and the model reads profiles
+    // still in cache. The draws are keyed by profile index, so how a batch
+    // is split changes nothing; each part has its own state (scratch and
+    // counters, summed by counts()). A source called inside a parallel loop
+    // does not split its part again (RasterSource::scan_batch).
+    const std::size_t parts = std::max<std::size_t>(count / 128, 1);
+    while (states_.size() < parts) {
+      states_.emplace_back().seed = seed_;
+      states_ref_.emplace_back().seed = seed_;
+    }
+    parallel_for(parts, [&](std::size_t t) {
+      const std::size_t first = count * t / parts, end = count * (t + 1) / parts;
+      main_->scan_batch(std::span<const Pose>(poses_).subspan(first, end - first),
+                        std::span<Profile>(out.ideal).subspan(first, end - first));
+      for (std::size_t k = first; k < end; ++k) {
+        stamp(out.ideal[k], k);
+        if (model) apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
+      }
+    });
+    return;
+  }
   main_->scan_batch(poses_, out.ideal);
   if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
   for (std::size_t k = 0; k < count; ++k) {
-    for (Profile* p : {&out.ideal[k], reference_ ? &out.ideal_ref[k] : nullptr}) {
-      if (!p) continue;
-      p->world_from_sensor = requests[k].world_from_sensor;
-      p->time_s = requests[k].time_s;
-      p->index = requests[k].index;
-    }
+    stamp(out.ideal[k], k);
+    if (reference_) stamp(out.ideal_ref[k], k);
   }
   if (!model || count == 0) return;
   if (image_mode()) {

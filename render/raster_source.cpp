@@ -1191,7 +1191,10 @@ class RasterSource final : public ProfileSource {
   // with the worker of its slot; errors come back as exceptions.
   void scan_batch(std::span<const Pose> poses, std::span<Profile> out) override {
     const std::size_t total = std::min(poses.size(), out.size());
-    const std::size_t parts = std::clamp<std::size_t>(total / kMinProfilesPerThread, 1, max_parts_);
+    // Called inside a parallel loop (a part of a batch split by the caller,
+    // pipeline/scan_session.cpp), the part is scanned on this thread.
+    const std::size_t parts =
+        thread_slot() >= 0 ? 1 : std::clamp<std::size_t>(total / kMinProfilesPerThread, 1, max_parts_);
     const std::size_t per = (total + parts - 1) / parts;
     parallel_for(parts, [&](std::size_t t) {
       const std::size_t first = std::min(total, t * per);
