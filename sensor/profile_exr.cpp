@@ -445,7 +445,9 @@ void ProfileExrWriter::Impl::open() {
     // blocks of a chunk (16 rows for ZIP) on its thread pool, which runs on the vts
     // threads (see ArenaTaskProvider). The bytes written do not depend on
     // the thread count.
-    file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, exr_threads());
+    // Uncompressed, a task would only copy a row: the caller writes alone.
+    const int threads = compression == ExrCompression::None ? 0 : exr_threads();
+    file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, threads);
     profiles_part = std::make_unique<Imf::OutputPart>(*file, 0);
     rows_part = std::make_unique<Imf::OutputPart>(*file, 1);
   } catch (const std::exception& e) {
