@@ -1,5 +1,7 @@
 #pragma once
 // One laser profile: N samples in scan order (column 0 at the most negative y).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -51,8 +53,21 @@ inline constexpr float kNoHit = std::numeric_limits<float>::infinity();
 // cos_incidence (|cos| of the ray/normal angle, clamped to 0..1; 0 when the
 // column is invalid). camera_visible is set to valid; a source that tests the
 // camera shadow clears it afterwards. Both profile sources call this, so their
-// filtering is identical.
-void set_column(const ScannerDesc& desc, const Eigen::Vector3f& direction, int column,
-                float hit_distance_mm, Profile& out, float cos_incidence = 1.0f);
+// filtering is identical. Inline: the raster calls it for every column.
+inline void set_column(const ScannerDesc& desc, const Eigen::Vector3f& direction, int column,
+                       float hit_distance_mm, Profile& out, float cos_incidence = 1.0f) {
+  const float y = hit_distance_mm * direction.y();
+  const float z = hit_distance_mm * direction.z();
+  const bool ok = std::isfinite(hit_distance_mm) && hit_distance_mm > 0.0f &&
+                  hit_distance_mm <= desc.max_hit_mm && z >= desc.min_range_mm &&
+                  z <= desc.max_range_mm;
+  out.valid[column] = ok ? 1 : 0;
+  out.range_mm[column] = ok ? hit_distance_mm : 0.0f;
+  out.y_mm[column] = ok ? y : 0.0f;
+  out.z_mm[column] = ok ? z : 0.0f;
+  const float c = std::isfinite(cos_incidence) ? std::min(1.0f, std::abs(cos_incidence)) : 0.0f;
+  out.cos_incidence[column] = ok ? c : 0.0f;
+  out.camera_visible[column] = ok ? 1 : 0;
+}
 
 }  // namespace vts
