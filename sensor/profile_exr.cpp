@@ -273,6 +273,12 @@ namespace {
 // many as the thread limit. A caller that is itself in a parallel loop
 // takes every task (its waiting must not depend on the arena's threads it
 // may be holding).
+// Set while a writer that wants no threads (an uncompressed file) hands
+// rows to OpenEXR: its tasks then run on the calling thread, as with
+// OpenEXR's own pool of 0 threads. OpenEXR passes every row through the
+// global pool whatever thread count a file was opened with.
+thread_local bool t_tasks_inline = false;
+
 class ArenaTaskProvider final : public IlmThread::ThreadPoolProvider {
  public:
   explicit ArenaTaskProvider(int threads) : threads_(threads) {}
@@ -281,7 +287,7 @@ class ArenaTaskProvider final : public IlmThread::ThreadPoolProvider {
   int numThreads() const override { return threads_; }
   void setNumThreads(int) override {}  // the thread limit decides
   void addTask(IlmThread::Task* task) override {
-    if (thread_slot() >= 0) {
+    if (thread_slot() >= 0 || t_tasks_inline) {
       run(task);
       return;
     }
@@ -445,9 +451,7 @@ void ProfileExrWriter::Impl::open() {
     // blocks of a chunk (16 rows for ZIP) on its thread pool, which runs on the vts
     // threads (see ArenaTaskProvider). The bytes written do not depend on
     // the thread count.
-    // Uncompressed, a task would only copy a row: the caller writes alone.
-    const int threads = compression == ExrCompression::None ? 0 : exr_threads();
-    file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, threads);
+    file = std::make_unique<Imf::MultiPartOutputFile>(*stream, headers.data(), 2, false, exr_threads());
     profiles_part = std::make_unique<Imf::OutputPart>(*file, 0);
     rows_part = std::make_unique<Imf::OutputPart>(*file, 1);
   } catch (const std::exception& e) {
@@ -473,6 +477,12 @@ void ProfileExrWriter::Impl::flush() {
     rows_fb.insert(kLoPrefix + name,
                    Imf::Slice::Make(Imf::UINT, row_lo[c].data(), origin, 1, kChunkRows, ustride, ustride));
   }
+  // Uncompressed, a task would only copy a row: the caller writes alone.
+  struct InlineScope {
+    bool saved = t_tasks_inline;
+    explicit InlineScope(bool on) { t_tasks_inline = saved || on; }
+    ~InlineScope() { t_tasks_inline = saved; }
+  } inline_scope(compression == ExrCompression::None);
   try {
     profiles_part->setFrameBuffer(fb);
     profiles_part->writePixels(chunk_rows);
