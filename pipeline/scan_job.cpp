@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <chrono>
 #include <future>
 #include <cmath>
@@ -19,11 +20,21 @@ namespace {
 void add(ScanStats& s, const Profile& p, const Profile& ideal, const Profile* ideal_ref) {
   ++s.profiles;
   s.samples += p.size();
-  for (int i = 0; i < p.size(); ++i) {
-    if (!p.valid[i]) continue;
-    ++s.valid;
-    s.range_sum_mm += p.range_mm[i];
+  // In locals: stored into `s` at every point, they made the loop reload
+  // the profile's data pointers each time. The same additions in the same
+  // order.
+  const int n = p.size();
+  const std::uint8_t* valid = p.valid.data();
+  const float* range = p.range_mm.data();
+  std::int64_t count = 0;
+  double sum = s.range_sum_mm;
+  for (int i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    ++count;
+    sum += range[i];
   }
+  s.valid += count;
+  s.range_sum_mm = sum;
   if (!ideal_ref) return;
   const Profile& ref = *ideal_ref;
   int disagreements = 0;
