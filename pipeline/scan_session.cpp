@@ -93,8 +93,11 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
     // still in cache. The draws are keyed by profile index, so how a batch
     // is split changes nothing; each part has its own state (scratch and
     // counters, summed by counts()). A source called inside a parallel loop
-    // does not split its part again (RasterSource::scan_batch).
-    const std::size_t parts = std::max<std::size_t>(count / 128, 1);
+    // does not split its part again (RasterSource::scan_batch). Parts of
+    // 128 profiles, at most four a thread (each keeps its own scratch, so
+    // a caller's huge batch does not multiply it).
+    const std::size_t parts =
+        std::clamp<std::size_t>(count / 128, 1, 4 * static_cast<std::size_t>(thread_limit()));
     while (states_.size() < parts) {
       states_.emplace_back().seed = seed_;
       states_ref_.emplace_back().seed = seed_;
