@@ -87,54 +87,40 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
     p.time_s = requests[k].time_s;
     p.index = requests[k].index;
   };
-  if (!image_mode() && !reference_) {
-    // Each part scans its profiles and applies the error model to them at
-    // once: one wait per batch instead of two, and the model reads profiles
-    // still in cache. The draws are keyed by profile index, so how a batch
-    // is split changes nothing; each part has its own state (scratch and
-    // counters, summed by counts()). A source called inside a parallel loop
-    // does not split its part again (RasterSource::scan_batch). Parts of
-    // 128 profiles, at most four a thread (each keeps its own scratch, so
-    // a caller's huge batch does not multiply it).
-    const std::size_t parts =
-        std::clamp<std::size_t>(count / 128, 1, 4 * static_cast<std::size_t>(thread_limit()));
-    while (states_.size() < parts) {
-      states_.emplace_back().seed = seed_;
-      states_ref_.emplace_back().seed = seed_;
-    }
-    parallel_for(parts, [&](std::size_t t) {
-      const std::size_t first = count * t / parts, end = count * (t + 1) / parts;
-      main_->scan_batch(std::span<const Pose>(poses_).subspan(first, end - first),
-                        std::span<Profile>(out.ideal).subspan(first, end - first));
-      for (std::size_t k = first; k < end; ++k) {
-        stamp(out.ideal[k], k);
-        if (model) apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
-      }
-    });
-    return;
-  }
-  main_->scan_batch(poses_, out.ideal);
-  if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
-  for (std::size_t k = 0; k < count; ++k) {
-    stamp(out.ideal[k], k);
-    if (reference_) stamp(out.ideal_ref[k], k);
-  }
-  if (!model || count == 0) return;
   if (image_mode()) {
-    scan_images(requests, out);
+    main_->scan_batch(poses_, out.ideal);
+    if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
+    for (std::size_t k = 0; k < count; ++k) {
+      stamp(out.ideal[k], k);
+      if (reference_) stamp(out.ideal_ref[k], k);
+    }
+    if (model && count > 0) scan_images(requests, out);
     return;
   }
-
-  // The draws are keyed by profile index, so both sources see the same ones
-  // and splitting a batch over threads changes nothing; each part has its
-  // own state (scratch and counters, summed by counts()).
-  const std::size_t parts = std::clamp<std::size_t>(count / 64, 1, static_cast<std::size_t>(thread_limit()));
+  // Each part scans its profiles (with both sources) and applies the error
+  // model to them at once: one wait per batch instead of two, and the model
+  // reads profiles still in cache. The draws are keyed by profile index, so
+  // both sources see the same ones and how a batch is split changes nothing;
+  // each part has its own state (scratch and counters, summed by counts()).
+  // A raster source called inside a parallel loop does not split its part
+  // again (RasterSource::scan_batch). Parts of 128 profiles, at most four a
+  // thread (each keeps its own scratch, so a caller's huge batch does not
+  // multiply it).
+  const std::size_t parts =
+      std::clamp<std::size_t>(count / 128, 1, 4 * static_cast<std::size_t>(thread_limit()));
   while (states_.size() < parts) {
     states_.emplace_back().seed = seed_;
     states_ref_.emplace_back().seed = seed_;
   }
   parallel_for(parts, [&](std::size_t t) {
-    for (std::size_t k = count * t / parts, end = count * (t + 1) / parts; k < end; ++k) {
+    const std::size_t first = count * t / parts, end = count * (t + 1) / parts;
+    const std::span<const Pose> poses = std::span<const Pose>(poses_).subspan(first, end - first);
+    main_->scan_batch(poses, std::span<Profile>(out.ideal).subspan(first, end - first));
+    if (reference_) reference_->scan_batch(poses, std::span<Profile>(out.ideal_ref).subspan(first, end - first));
+    for (std::size_t k = first; k < end; ++k) {
+      stamp(out.ideal[k], k);
+      if (reference_) stamp(out.ideal_ref[k], k);
+      if (!model) continue;
       apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
       if (reference_) apply_error_model(scanner_, out.ideal_ref[k], states_ref_[t], out.measured_ref[k]);
     }
