@@ -3300,7 +3300,6 @@ class Matcher {
     };
     for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
       const double u0 = (poly[k] - b1).dot(along), u1 = (poly[k + 1] - b1).dot(along);
-      at_step(k, u0, u1);
       if (u0 <= u_mid && u1 >= u_mid) {
         const double t = u1 > u0 ? (u_mid - u0) / (u1 - u0) : 0.5;
         b3 = poly[k] + t * (poly[k + 1] - poly[k]);
@@ -3319,11 +3318,11 @@ class Matcher {
         }
         b3_cov = var_u * g * g.transpose() +
                  ((1.0 - t) * (1.0 - t) * down_var(k) + t * t * down_var(k + 1)) * down * down.transpose();
-        for (std::size_t m = k + 1; m + 1 < poly.size() && gp.bottom_steps && step_k == poly.size(); ++m)
-          at_step(m, (poly[m] - b1).dot(along), (poly[m + 1] - b1).dot(along));
         break;
       }
     }
+    for (std::size_t k = 0; k + 1 < poly.size() && gp.bottom_steps && step_k == poly.size(); ++k)
+      at_step(k, (poly[k] - b1).dot(along), (poly[k + 1] - b1).dot(along));
     if (step_k < poly.size()) {
       std::snprintf(c.reason, sizeof c.reason,
                     "uncertain: the track point lies at a step of %.3g mm in the groove's bottom (a closed root's "
