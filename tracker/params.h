@@ -555,6 +555,16 @@ struct TrackerParams {
   // square to the plate surface: a single point seen on such a face fixes the
   // edge exactly instead of only between two column rays.
   bool square_edges = true;
+  // How far from square to its plate an edge face or wall that the camera
+  // does not see may lie in the profile (rms, degrees): plates are cut
+  // square to about a degree, and a sensor at lead angle p and side angle s
+  // to the seam sees the section sheared by about sin p sin s radians (1.5
+  // degrees at 15 and 6 degrees). Where such a face is drawn through a
+  // plate's edge (a lap's with its edge face hidden, a groove's hidden
+  // square wall), the point placed on it at a depth d below the edge is
+  // known along the plate to no better than d times that angle
+  // (docs/JOINTS.md "Localization"). 0: square exactly.
+  double hidden_face_deg = 1.5;
   // Where a plate reaches over the points beside it that lie on its line
   // (butt plates, the fillet's web), it also reaches over single points off
   // it that lie in front of it or at most 2 surface_tol_mm behind it, between

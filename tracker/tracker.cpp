@@ -1186,6 +1186,7 @@ class Matcher {
     }
     if (face_dir && p_.square_edges) {
       Vec2 sum = Vec2::Zero();
+      double sum_a = 0.0, sum_aa = 0.0;
       int k = 0;
       const double den = pl.line.n.dot(*face_dir);
       for (const auto span : {faces, more_faces}) {
@@ -1199,6 +1200,7 @@ class Matcher {
           const double a = (f - near).dot(dir);
           if (a < -tol_ || a > width + tol_) continue;
           sum += f;
+          sum_a += a, sum_aa += a * a;
           ++k;
         }
       }
@@ -1208,7 +1210,18 @@ class Matcher {
         const Vec2 e = sum / k, g = *face_dir / den;
         const LineCov lc = line_cov ? *line_cov : cov_of(pl);
         const double u = (e - lc.mean).dot(lc.direction());
-        return Edge{e, 0.0, moved(lc, g, u * g) + sigma_ * sigma_ / k * Eigen::Matrix2d::Identity()};
+        Eigen::Matrix2d cov = moved(lc, g, u * g) + sigma_ * sigma_ / k * Eigen::Matrix2d::Identity();
+        // On a square face the feet coincide but for the noise; spread
+        // along the plate beyond that, they are no face but a chamfer, a
+        // rounding or a sheared face, and the edge may lie anywhere among
+        // them: their variance beyond the noise's is added (a uniform
+        // spread's, as an edge interval's).
+        if (k > 1) {
+          const double spread =
+              std::max(0.0, (sum_aa - sum_a * sum_a / k) / (k - 1) - sigma_ * sigma_ / (den * den));
+          cov += spread * pl.line.direction() * pl.line.direction().transpose();
+        }
+        return Edge{e, 0.0, cov};
       }
     }
     // The covariance (docs/JOINTS.md "Localization"): the line's offset and
@@ -2125,6 +2138,10 @@ class Matcher {
           foot = lower.line.project(top);
           // Along the lower plate the upper plate's edge, across it its line.
           c.track_cov = on_plate_cov(lower, foot, e.cov), c.located = true;
+          // The hidden face is square to the plates only to hidden_face_deg:
+          // its foot moves along the lower plate by the step times that.
+          const double shear = lower.line.distance(top) * std::tan(p_.hidden_face_deg * kDeg);
+          c.track_cov += shear * shear * lower.line.direction() * lower.line.direction().transpose();
           if (lp.upper_thickness_mm > 0.0) {
             bottom = top - lp.upper_thickness_mm * upper.line.n;
             c.gap = lower.line.signed_distance(*bottom);
@@ -2952,7 +2969,9 @@ class Matcher {
       wall.orient_towards(origin_);
       wall_cov.mean = e.point, wall_cov.n = wall.n;
       wall_cov.var_offset = wall.n.dot(e.cov * wall.n);
-      wall_cov.var_angle = cov_of(top).var_angle;
+      // Square to the top to within the top's direction and the angle a
+      // hidden face may lie from square (TrackerParams::hidden_face_deg).
+      wall_cov.var_angle = cov_of(top).var_angle + std::pow(p_.hidden_face_deg * kDeg, 2);
       unc += e.half_width_mm;
       return e.point;
     };

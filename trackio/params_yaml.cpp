@@ -25,6 +25,7 @@ const ParamField kFields[] = {
     VTS_PARAM("surface_tol_mm", (Limit{0, kInf, true}), params.surface_tol_mm),
     VTS_PARAM("max_joint_width_mm", (Limit{0, kInf, true}), params.max_joint_width_mm),
     VTS_PARAM("square_edges", {}, params.square_edges),
+    VTS_PARAM("hidden_face_deg", (Limit{0, 45}), params.hidden_face_deg),
     VTS_PARAM("segmentation.roi_first", (Limit{0, 4095}), params.segmentation.roi_first),
     VTS_PARAM("segmentation.roi_last", (Limit{-1, 4095}), params.segmentation.roi_last),
     VTS_PARAM("segmentation.ray_origin_yz", {}, params.segmentation.ray_origin_yz),

@@ -273,7 +273,7 @@ TEST_CASE("vts track: bad input exits 2 naming file line field and value", "[cli
        "'two'\n"},
       {"track good.csv --params bad_key.yaml --out o.jsonl",
        "vts track: --params: bad_key.yaml:2: surface_tol: unknown key (expected one of: joint, surface_tol_mm, "
-       "max_joint_width_mm, square_edges, segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)\n"},
+       "max_joint_width_mm, square_edges, hidden_face_deg, segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)\n"},
       {"track good.csv --params bad_range.yaml --out o.jsonl",
        "vts track: --params: bad_range.yaml:2: corner.angle_deg: min 170 is greater than max 60\n"},
       {"track good.csv --params bad_joint.yaml --out o.jsonl",

@@ -169,12 +169,9 @@ struct Spread {
 };
 // closed_only: only the readings of a closed root (gap 0: the bevels' lines'
 // intersection).
-Spread spread(const std::vector<synth::Piece>& pieces, const Vec2& truth, double sigma, int seeds, int columns,
-              bool closed_only = false, bool fill = false) {
+Spread spread(const tk::TrackerParams& params, const std::vector<synth::Piece>& pieces, const Vec2& truth,
+              double sigma, int seeds, int columns, bool closed_only = false) {
   Spread s;
-  tk::TrackerParams params;
-  params.joint = tk::JointType::VGroove;
-  params.groove.vgroove_fill = fill;
   tk::Tracker tracker(params);
   for (int k = 0; k < seeds; ++k) {
     auto p = synth::sample(pieces, columns);
@@ -188,6 +185,14 @@ Spread spread(const std::vector<synth::Piece>& pieces, const Vec2& truth, double
   }
   if (s.read) s.stated_ms /= s.read, s.empirical_ms /= s.read;
   return s;
+}
+// The same for a v-groove (with beads laid: fill).
+Spread spread(const std::vector<synth::Piece>& pieces, const Vec2& truth, double sigma, int seeds, int columns,
+              bool closed_only = false, bool fill = false) {
+  tk::TrackerParams params;
+  params.joint = tk::JointType::VGroove;
+  params.groove.vgroove_fill = fill;
+  return spread(params, pieces, truth, sigma, seeds, columns, closed_only);
 }
 }  // namespace
 
@@ -278,8 +283,10 @@ TEST_CASE("lap: the stated rms error of a hidden face's foot is its spread over 
   // share of the error is uniform as stated; the empirical mean square error
   // has a relative standard error of about 10 % (the interval's uniform
   // error has a kurtosis of 1.8). Within 30 %.
+  // The face is drawn exactly square: no allowance for a sheared one.
   tk::TrackerParams params;
   params.joint = tk::JointType::Lap;
+  params.hidden_face_deg = 0.0;
   tk::Tracker tracker(params);
   const double spacing = 2.0 * 106.0 * std::tan(20.0 * std::numbers::pi / 180.0) / 512;
   Normal g(7);
@@ -302,6 +309,77 @@ TEST_CASE("lap: the stated rms error of a hidden face's foot is its spread over 
   INFO("stated rms " << std::sqrt(stated_ms) << " mm, empirical " << std::sqrt(empirical_ms) << " mm over " << read
                      << " readings");
   CHECK(empirical_ms == Approx(stated_ms).epsilon(0.30));
+}
+
+TEST_CASE("lap: a hidden face sheared by the sensor's lead and side angles is within the stated error",
+          "[tracker][lap][localization]") {
+  // The section of a square edge face, seen by a sensor whose laser plane
+  // has the unit normal n = (cos s cos p, sin s cos p, sin p) in the seam's
+  // frame (seam along x, plates in x-y, the face the plane y = 0; lead angle
+  // p, side angle s): the face's trace t = y x n and the plate's s = z x n
+  // meet at cos a = -n_z n_y / sqrt((n_x^2 + n_z^2)(n_x^2 + n_y^2)), off
+  // square by 1.56 degrees at p = 15, s = 6 degrees (worked out below). The
+  // upper plate 6 mm thick, its face hidden and leaning that way, range
+  // noise 0.05 mm, 200 seeds: the foot lies 6 tan(1.56 deg) = 0.163 mm from
+  // where a square face puts it, which the fits alone state to about 0.04
+  // mm; with TrackerParams::hidden_face_deg (1.5) the stated rms covers it
+  // (the empirical mean square no more than 1.25 times the stated one), and
+  // with 0 it does not (more than 4 times).
+  const double deg = std::numbers::pi / 180.0, p = 15.0 * deg, side = 6.0 * deg;
+  const double nx = std::cos(side) * std::cos(p), ny = std::sin(side) * std::cos(p), nz = std::sin(p);
+  const double shear = std::acos(-nz * ny / std::sqrt((nx * nx + nz * nz) * (nx * nx + ny * ny))) - 0.5 * std::numbers::pi;
+  REQUIRE(std::abs(shear) / deg == Approx(1.56).margin(0.005));
+  const double e = 0.3, top = 104.0, bottom = 110.0;
+  const Vec2 foot(e + (bottom - top) * std::tan(std::abs(shear)), bottom);  // the face leans away from the sensor
+  const std::vector<synth::Piece> lap{{Vec2(-60, bottom), foot}, {Vec2(e, top), Vec2(60, top)}, {Vec2(e, top), foot}};
+  for (const double allowance : {1.5, 0.0}) {
+    tk::TrackerParams params;
+    params.joint = tk::JointType::Lap;
+    params.hidden_face_deg = allowance;
+    const Spread s = spread(params, lap, foot, 0.05, 200, 512);
+    INFO("hidden_face_deg " << allowance << ": stated rms " << std::sqrt(s.stated_ms) << " mm, empirical "
+                            << std::sqrt(s.empirical_ms) << " mm over " << s.read << " readings");
+    REQUIRE(s.read >= 190);
+    if (allowance > 0.0)
+      CHECK(s.empirical_ms <= 1.25 * s.stated_ms);
+    else
+      CHECK(s.empirical_ms > 4.0 * s.stated_ms);
+  }
+}
+
+TEST_CASE("butt: a chamfered edge's points are no face, and the stated error counts their spread",
+          "[tracker][butt][localization]") {
+  // A butt joint at 100 mm, gap 1 mm (edges at y = -0.5 and 0.5), the left
+  // plate's edge chamfered 1 mm at 45 degrees, its square edge face below
+  // the chamfer, the right plate's edge sharp. The left edge (where the top
+  // and the face would meet) is (-0.5, 100), the track point the gap's
+  // centre (0, 100). The points behind the left plate between the plates
+  // (about 7 at 512 columns: the chamfer's and the face's) are taken for
+  // face points; their feet on the plate's line spread over the chamfer's
+  // 1 mm, which noise does not do. The edge is their mean, about 0.45 mm
+  // short of the truth, which lies at the end of the spread: the stated
+  // error counts the feet's variance (about 0.08 mm^2, a uniform spread's
+  // 1/12 mm^2 with the face's points), about half of that error, where the
+  // fits alone stated 0.01-0.02 mm. Range noise 0.05 mm, 200 seeds: the
+  // empirical mean square error within 5 times the stated one (a truth at
+  // the end of a uniform spread is 3 times its variance off its centre),
+  // and with the track point's error, 0.25 mm, over 2 stated rms.
+  // (Placing the edge at the outermost foot instead: on the corpus'
+  // development seeds the butt's right readings went 77.0 -> 72.8 %, the
+  // corner's 66.8 -> 67.9 %; docs/JOINTS.md "Localization".)
+  const double z = 100.0, depth = 6.0;
+  const Vec2 l_top(-1.5, z), l_cham(-0.5, z + 1.0), r_edge(0.5, z);
+  const std::vector<synth::Piece> butt{{Vec2(-60, z), l_top},          {l_top, l_cham},
+                                       {l_cham, Vec2(-0.5, z + depth)}, {r_edge, Vec2(0.5, z + depth)},
+                                       {r_edge, Vec2(60, z)}};
+  tk::TrackerParams params;
+  params.joint = tk::JointType::Butt;
+  const Spread s = spread(params, butt, Vec2(0.0, z), 0.05, 200, 512);
+  INFO("stated rms " << std::sqrt(s.stated_ms) << " mm, empirical " << std::sqrt(s.empirical_ms) << " mm over "
+                     << s.read << " readings");
+  REQUIRE(s.read >= 190);
+  CHECK(s.empirical_ms <= 5.0 * s.stated_ms);
+  CHECK(std::sqrt(s.empirical_ms) >= 0.2);
 }
 
 TEST_CASE("tracker: the confidence includes the chance that the track point is off", "[tracker][localization]") {

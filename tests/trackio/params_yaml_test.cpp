@@ -119,7 +119,7 @@ TEST_CASE("trackio params: keys not in the file keep their values", "[trackio]")
 TEST_CASE("trackio params: errors name the file, the line and the key path", "[trackio]") {
   CHECK(error_of("a: 1\n") ==
         "p.yaml:1: a: unknown key (expected one of: joint, surface_tol_mm, max_joint_width_mm, square_edges, "
-        "segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)");
+        "hidden_face_deg, segmentation, fillet, corner, lap, butt, vgroove, groove, noise, confidence)");
   CHECK(error_of("segmentation:\n  segments:\n    split_interval: two\n") ==
         "p.yaml:3: segmentation.segments.split_interval: expected an integer, got 'two'");
   CHECK(error_of("corner: {angle_deg: [170, 60]}\n") == "p.yaml:1: corner.angle_deg: min 170 is greater than max 60");
