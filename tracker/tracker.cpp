@@ -3325,6 +3325,7 @@ class Matcher {
         under = (poly[k + 1] - poly[k]).norm();
         under_k = k;
         Vec2 g = (poly[k + 1] - poly[k]) / std::max(u1 - u0, 1e-9);  // per mm along
+        double rough = 0.0;
         {
           std::vector<Vec2> near_b3;
           for (const Vec2& q : poly)
@@ -3333,10 +3334,15 @@ class Matcher {
             if (const auto f = fit_line(near_b3)) {
               const Vec2 d = f->line.direction();
               if (std::abs(d.dot(along)) > 0.1) g = d / d.dot(along);
+              // Its depth is known no better than the bottom's points there
+              // lie on a line: a step (the plates' mismatch at a closed
+              // root), a bead's ripples (their scatter about it beyond the
+              // noise's).
+              rough = std::max(0.0, f->rms_mm * f->rms_mm - sigma_ * sigma_);
             }
         }
         b3_cov = var_u * g * g.transpose() +
-                 ((1.0 - t) * (1.0 - t) * down_var(k) + t * t * down_var(k + 1)) * down * down.transpose();
+                 ((1.0 - t) * (1.0 - t) * down_var(k) + t * t * down_var(k + 1) + rough) * down * down.transpose();
         break;
       }
     }
