@@ -4506,9 +4506,28 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
     // ...and that it is where it is read (docs/JOINTS.md "Localization").
     double off = 0.0;
     if (best.located) {
-      out.track_sigma_mm = std::sqrt(std::max(best.track_cov.trace(), 0.0));
+      // The fits' covariance, and the readings within distinct_mm of it
+      // (no rivals: the same joint read another way, a corner's apex and
+      // its notch's edges), each as likely against it as their strengths
+      // say at the temperature: the track point lies among them (their
+      // spread about it, weighted).
+      Eigen::Matrix2d cov = best.track_cov;
+      {
+        double wsum = 1.0;
+        Eigen::Matrix2d spread = Eigen::Matrix2d::Zero();
+        for (const auto& r : out.readings) {
+          const Vec2 d = r.track_point - *best.track;
+          const double dist = d.norm();
+          if (dist <= 1e-9 || dist > cp.distinct_mm) continue;
+          const double w = std::exp(std::min(r.strength - e, 0.0) / tau);
+          wsum += w;
+          spread += w * d * d.transpose();
+        }
+        cov += spread / wsum;
+      }
+      out.track_sigma_mm = std::sqrt(std::max(cov.trace(), 0.0));
       out.track_off_probability = off = cp.track_interval_mm > 0.0
-                                            ? prob_outside_circle(best.track_cov, cp.track_interval_mm)
+                                            ? prob_outside_circle(cov, cp.track_interval_mm)
                                             : 0.0;
     }
     out.confidence = found * (1.0 - off);
