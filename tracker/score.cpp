@@ -77,6 +77,11 @@ void Tally::add(const Scored& s, const TrackResult& r, const Truth& t) {
     }
   }
   if (s.outcome == Outcome::Rejected) ++reject_reasons[reason_kind(r.reason)];
+  if (s.outcome != Outcome::Rejected && !t.hidden && std::isfinite(r.track_sigma_mm) &&
+      std::isfinite(s.track_error_mm)) {
+    ++located;
+    over_3_sigma += s.track_error_mm > 3.0 * r.track_sigma_mm;
+  }
   if (s.outcome != Outcome::Rejected) {
     track_errors_mm.push_back(s.track_error_mm);
     if (std::isfinite(s.gap_error_mm)) gap_errors_mm.push_back(s.gap_error_mm);
@@ -94,6 +99,7 @@ Tally ScoreTable::total(JointType joint) const {
     all.profiles += t.profiles, all.right += t.right, all.imprecise += t.imprecise;
     all.rejected += t.rejected, all.false_reads += t.false_reads, all.hidden += t.hidden;
     all.hidden_read += t.hidden_read;
+    all.located += t.located, all.over_3_sigma += t.over_3_sigma;
     all.track_errors_mm.insert(all.track_errors_mm.end(), t.track_errors_mm.begin(), t.track_errors_mm.end());
     all.gap_errors_mm.insert(all.gap_errors_mm.end(), t.gap_errors_mm.begin(), t.gap_errors_mm.end());
     for (const auto& [k, v] : t.reject_reasons) all.reject_reasons[k] += v;
@@ -104,17 +110,19 @@ Tally ScoreTable::total(JointType joint) const {
 std::string ScoreTable::markdown() const {
   std::string out =
       "| joint | noise (mm) | profiles (hidden) | right | imprecise | rejected | false reads | "
-      "track error median / 95 % (mm) | gap error median / 95 % (mm) |\n"
-      "|---|---|---|---|---|---|---|---|---|\n";
+      "track error median / 95 % (mm) | gap error median / 95 % (mm) | over 3 stated rms |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n";
   char buf[320];
   auto pct = [](int k, int n) { return n > 0 ? 100.0 * k / n : 0.0; };
   auto row = [&](const char* joint, const char* noise, const Tally& t) {
     const int v = t.visible();
+    char over[32] = "-";
+    if (t.located > 0) std::snprintf(over, sizeof over, "%.1f %%", pct(t.over_3_sigma, t.located));
     std::snprintf(buf, sizeof buf,
-                  "| %s | %s | %d (%d) | %.1f %% | %.1f %% | %.1f %% | %d | %.3f / %.3f | %.3f / %.3f |\n", joint,
+                  "| %s | %s | %d (%d) | %.1f %% | %.1f %% | %.1f %% | %d | %.3f / %.3f | %.3f / %.3f | %s |\n", joint,
                   noise, t.profiles, t.hidden, pct(t.right, v), pct(t.imprecise, v), pct(t.rejected, v),
                   t.false_reads, quantile(t.track_errors_mm, 0.5), quantile(t.track_errors_mm, 0.95),
-                  quantile(t.gap_errors_mm, 0.5), quantile(t.gap_errors_mm, 0.95));
+                  quantile(t.gap_errors_mm, 0.5), quantile(t.gap_errors_mm, 0.95), over);
     out += buf;
   };
   for (const JointType j : kAllJointTypes) {

@@ -67,14 +67,17 @@ struct TrackResult {
   // plate edges place it (a butt's or corner's edges, a lap's top edge, a
   // v-groove's root edges); 0 where lines meet.
   double track_uncertainty_mm = 0.0;
-  // How precisely the reading's fits locate the track point (docs/JOINTS.md
+  // How precisely the reading locates the track point (docs/JOINTS.md
   // "Localization"): the root mean square of its error (mm; the square root
   // of the trace of its covariance, worked out from the residuals and
-  // spread of the lines that place it, the end points' noise and
-  // track_uncertainty_mm's interval), and the chance (0..1) that it lies
-  // more than ConfidenceParams::track_interval_mm from where it is read,
-  // which the confidence includes. NaN where the template does not work it
-  // out (the groove model) or there is no reading.
+  // spread of the lines that place it, the end points' noise,
+  // track_uncertainty_mm's interval, what the model cannot see: face points
+  // spread along a plate, a hidden face's tilt (hidden_face_deg), a groove
+  // bottom's scatter, and the readings of the same joint within
+  // distinct_mm), and the chance (0..1) that it lies more than
+  // ConfidenceParams::track_interval_mm from where it is read, which the
+  // confidence includes. NaN where the template does not work it out or
+  // there is no reading.
   double track_sigma_mm = kNotMeasured;
   double track_off_probability = kNotMeasured;
   // The profile's noise across the surface (1 sigma, mm) the tolerances were
