@@ -10,10 +10,13 @@ namespace {
 
 // "ambiguous: confidence 0.4, ..." -> "ambiguous"; "gap 6.1 mm outside [0, 5]" -> "gap outside".
 std::string reason_kind(const std::string& reason) {
-  if (const auto colon = reason.find(':'); colon != std::string::npos) return reason.substr(0, colon);
+  // The words before a colon (the kind), or the whole reason, without its
+  // numbers: "inside a wider groove (walls 45.2 and 45 deg, ...): ..." and
+  // "gap 3.1 mm outside [0, 3]" are one kind whatever the values.
+  const std::string head = reason.substr(0, reason.find(':'));
   std::string out;
   bool space = false;
-  for (char ch : reason) {
+  for (char ch : head) {
     if (std::isdigit(static_cast<unsigned char>(ch)) || ch == '.' || ch == '[' || ch == ']' || ch == ',' || ch == '-')
       continue;
     if (ch == ' ') {

@@ -60,3 +60,23 @@ TEST_CASE("score: outcomes and the share of readings more than 3 stated rms off"
   CHECK(md.find("| butt | all | 7 (1) | 50.0 % | 16.7 % | 16.7 % | 2 |") != std::string::npos);
   CHECK(md.find("| 50.0 % |\n") != std::string::npos);
 }
+
+TEST_CASE("score: rejection reasons are counted by kind, whatever their numbers", "[tracker][score]") {
+  tk::Truth truth;
+  truth.joint = tk::JointType::VGroove;
+  truth.track_point = Vec2(0.0, 100.0);
+  tk::ScoreTable table;
+  for (const char* reason : {"inside a wider groove (walls 45.2 and 45 deg, 22.3 mm wide at the top): its tops",
+                             "inside a wider groove (walls 61.7 and 58 deg, 14.7 mm wide at the top): its tops",
+                             "gap 3.2 mm outside [0, 3]", "gap 4 mm outside [0, 3]", "uncertain: confidence 0.83"}) {
+    tk::TrackResult r;
+    r.status = tk::TrackStatus::Rejected;
+    r.reason = reason;
+    table.add(r, truth);
+  }
+  const auto& kinds = table.total(tk::JointType::VGroove).reject_reasons;
+  CHECK(kinds.size() == 3);
+  CHECK(kinds.at("inside a wider groove (walls and deg mm wide at the top)") == 2);
+  CHECK(kinds.at("gap mm outside") == 2);
+  CHECK(kinds.at("uncertain") == 1);
+}
