@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
     std::fprintf(features, "joint,seed,noise,outcome,error,status,confidence,strength,rival_strength,rival_mm,"
                            "noise_mm,track_unc,edge_unc,readings,hidden,rival_error,reason");
     for (int k = 0; k < tk::kMaxBreakPoints; ++k) std::fprintf(features, ",b%dy,b%dz", k, k);
-    std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4,track_sigma,track_off_p,tags\n");
+    std::fprintf(features, ",wall_a,wall_b,depth,near_track,near_b2,near_b3,near_b4,track_sigma,track_off_p,truth_y,truth_z,tags\n");
   }
   std::size_t n_seen = 0;
   std::map<tk::JointType, int> shown;
@@ -176,7 +176,8 @@ int main(int argc, char** argv) {
       // How precisely the reading's fits locate the track point.
       std::string truth_tags;
       for (const auto& t : p.truth.tags) truth_tags += (truth_tags.empty() ? "" : " ") + t;
-      std::fprintf(features, ",%.4f,%.3g,%s\n", r.track_sigma_mm, r.track_off_probability, truth_tags.c_str());
+      std::fprintf(features, ",%.4f,%.3g,%.4f,%.4f,%s\n", r.track_sigma_mm, r.track_off_probability,
+                   p.truth.track_y_mm, p.truth.track_z_mm, truth_tags.c_str());
     }
     if (s.outcome != tk::Outcome::False && s.outcome != tk::Outcome::Imprecise) return;
     const tk::JointType j = joint_of(p.truth.joint);
