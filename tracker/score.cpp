@@ -8,7 +8,7 @@
 namespace vts::tracker {
 namespace {
 
-// "ambiguous: confidence 0.4, ..." -> "ambiguous"; "gap 6.1 mm outside [0, 5]" -> "gap outside".
+// "ambiguous: confidence 0.4, ..." -> "ambiguous"; "gap 6.1 mm outside [0, 5]" -> "gap mm outside".
 std::string reason_kind(const std::string& reason) {
   // The words before a colon (the kind), or the whole reason, without its
   // numbers: "inside a wider groove (walls 45.2 and 45 deg, ...): ..." and
