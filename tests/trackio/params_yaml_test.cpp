@@ -29,6 +29,7 @@ TEST_CASE("trackio params: every key of docs/CLI.md's example file lands in its 
 surface_tol_mm: 0.05
 max_joint_width_mm: 25
 square_edges: false
+hidden_face_deg: 2.5
 segmentation:
   roi_first: 3
   roi_last: 500
@@ -59,6 +60,7 @@ vgroove: {angle_deg: [30, 110], gap_mm: [0, 4], mismatch_mm: [0, 2], depth_mm: [
   CHECK(p.surface_tol_mm == 0.05);
   CHECK(p.max_joint_width_mm == 25);
   CHECK_FALSE(p.square_edges);
+  CHECK(p.hidden_face_deg == 2.5);
   CHECK(p.segmentation.roi_first == 3);
   CHECK(p.segmentation.roi_last == 500);
   CHECK(p.segmentation.ray_origin_yz == tk::Vec2(1.5, -2));
@@ -124,6 +126,8 @@ TEST_CASE("trackio params: errors name the file, the line and the key path", "[t
         "p.yaml:3: segmentation.segments.split_interval: expected an integer, got 'two'");
   CHECK(error_of("corner: {angle_deg: [170, 60]}\n") == "p.yaml:1: corner.angle_deg: min 170 is greater than max 60");
   CHECK(error_of("surface_tol_mm: 0\n") == "p.yaml:1: surface_tol_mm: '0' is out of range: expected > 0");
+  CHECK(error_of("hidden_face_deg: -1\n") ==
+        "p.yaml:1: hidden_face_deg: '-1' is out of range: expected from 0 to 45");
   CHECK(error_of("vgroove: {min_bevel_points: 1}\n") ==
         "p.yaml:1: vgroove.min_bevel_points: '1' is out of range: expected from 2 to 4096");
   CHECK(error_of("lap:\n  step_mm: [1, 2]\n  step_mm: [1, 3]\n") == "p.yaml:3: lap.step_mm: duplicate key");
