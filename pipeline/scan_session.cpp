@@ -82,18 +82,22 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
   out.ideal_ref.resize(reference_ ? count : 0);
   out.measured_ref.resize(reference_ && model ? count : 0);
   if (!image_mode() || !keep_images_) out.images.clear();  // none left from an earlier scan into `out`
-  auto stamp = [&](Profile& p, std::size_t k) {
-    p.world_from_sensor = requests[k].world_from_sensor;
-    p.time_s = requests[k].time_s;
-    p.index = requests[k].index;
+  // Profiles [first, end) from both sources, stamped with their requests'
+  // pose, time and index.
+  auto scan_range = [&](std::size_t first, std::size_t end) {
+    const std::span<const Pose> poses = std::span<const Pose>(poses_).subspan(first, end - first);
+    main_->scan_batch(poses, std::span<Profile>(out.ideal).subspan(first, end - first));
+    if (reference_) reference_->scan_batch(poses, std::span<Profile>(out.ideal_ref).subspan(first, end - first));
+    for (std::size_t k = first; k < end; ++k)
+      for (Profile* p : {&out.ideal[k], reference_ ? &out.ideal_ref[k] : nullptr}) {
+        if (!p) continue;
+        p->world_from_sensor = requests[k].world_from_sensor;
+        p->time_s = requests[k].time_s;
+        p->index = requests[k].index;
+      }
   };
   if (image_mode()) {
-    main_->scan_batch(poses_, out.ideal);
-    if (reference_) reference_->scan_batch(poses_, out.ideal_ref);
-    for (std::size_t k = 0; k < count; ++k) {
-      stamp(out.ideal[k], k);
-      if (reference_) stamp(out.ideal_ref[k], k);
-    }
+    scan_range(0, count);
     if (model && count > 0) scan_images(requests, out);
     return;
   }
@@ -114,13 +118,9 @@ void ScanSession::scan(std::span<const ScanRequest> requests, ScanResults& out) 
   }
   parallel_for(parts, [&](std::size_t t) {
     const std::size_t first = count * t / parts, end = count * (t + 1) / parts;
-    const std::span<const Pose> poses = std::span<const Pose>(poses_).subspan(first, end - first);
-    main_->scan_batch(poses, std::span<Profile>(out.ideal).subspan(first, end - first));
-    if (reference_) reference_->scan_batch(poses, std::span<Profile>(out.ideal_ref).subspan(first, end - first));
+    scan_range(first, end);
+    if (!model) return;
     for (std::size_t k = first; k < end; ++k) {
-      stamp(out.ideal[k], k);
-      if (reference_) stamp(out.ideal_ref[k], k);
-      if (!model) continue;
       apply_error_model(scanner_, out.ideal[k], states_[t], out.measured[k]);
       if (reference_) apply_error_model(scanner_, out.ideal_ref[k], states_ref_[t], out.measured_ref[k]);
     }
