@@ -316,6 +316,15 @@ struct VGrooveParams {
   // (ButtParams::edge_past_mm).
   bool check_root_past = true;
   double root_past_mm = 0.5;
+  // An open root's edges lie as far apart across the plates as the plate
+  // tops do (both seen). Where one stands higher than that (by more than
+  // twice the edges' own rms across the plates), its bevel may go
+  // on unseen down to the other's level (a shadow, a tack weld or a dropout
+  // over its foot) unless a ray between the edges saw past that extension;
+  // the stated error (TrackResult::track_sigma_mm) takes its edge as
+  // anywhere on it (docs/JOINTS.md "Localization"). false: at its last
+  // point only.
+  bool unseen_root_extension = true;
   // And of its tops with beads laid (GrooveParams::vgroove_fill), as the
   // groove model's: more than
   // ConfidenceParams::unexplained_points (+ unexplained_share of those

@@ -4085,6 +4085,33 @@ class Matcher {
         const Vec2 dl = bl.line.direction(), dr = br.line.direction();
         el.cov += end_spread(bl, true, el.point, dirs) * dl * dl.transpose();
         er.cov += end_spread(br, false, er.point, dirs) * dr * dr.transpose();
+        // The root edges lie as far apart across the plates as the tops
+        // do (VGrooveParams::unseen_root_extension): where one stands
+        // higher than that, its bevel may go on unseen down to the other's
+        // level (a shadow, a tack weld or a dropout over its foot), unless
+        // a ray between the edges saw past that extension. Its edge lies
+        // anywhere on it: a spread of len^2 / 3 along the bevel.
+        if (vp.unseen_root_extension && tl && tr) {
+          const Vec2 x0 = 0.5 * (el.point + er.point);
+          auto height = [&](const Line& l) {  // the line's height along np above x0
+            const double nn = l.n.dot(np);
+            return std::abs(nn) > 1e-6 ? -l.signed_distance(x0) / nn : 0.0;
+          };
+          // Beyond twice the edges' own rms across the plates (noise moves
+          // them too).
+          double excess = np.dot(er.point - el.point) - (height(tr->line) - height(tl->line));
+          const double sd = std::sqrt(std::max(0.0, np.dot((el.cov + er.cov) * np)));
+          excess = excess > 0.0 ? std::max(0.0, excess - 2.0 * sd) : std::min(0.0, excess + 2.0 * sd);
+          const bool right = excess > 0.0;
+          Edge& e = right ? er : el;
+          const Vec2 down = right ? Vec2(-pr->ub) : Vec2(-pr->ua);
+          const double slope = std::abs(np.dot(down));
+          // Down the bevel to the other edge's level, not past the crossing.
+          const double len = std::min(slope > 1e-6 ? std::abs(excess) / slope : 0.0,
+                                      std::max(0.0, (pr->x - e.point).dot(down)));
+          if (len > tol_ && !seen_past(e.point, down, len, from, to))
+            e.cov += (len * len / 3.0) * down * down.transpose();
+        }
       }
       const Vec2 mid = 0.5 * (el.point + er.point);
 
@@ -4212,6 +4239,23 @@ class Matcher {
   // consecutive columns on its line and off the other bevel's, spanning at
   // least `extent` mm along it (a surface crossing the line, a backing bar
   // under the root, has a few points on it only where it crosses; 0: none).
+  // Whether the ray to a kept point from..to crossed the segment from edge
+  // to edge + len u (unit u) before reaching it, by more than the surface
+  // tolerance: nothing stands there, or that ray would have stopped on it.
+  bool seen_past(const Vec2& edge, const Vec2& u, double len, int from, int to) const {
+    const Vec2 b = edge - origin_;
+    for (int i = from; i <= to; ++i) {
+      const Vec2 r = pt(i) - origin_;
+      // origin + t r = edge + s u, by Cramer's rule.
+      const double det = u.x() * r.y() - u.y() * r.x();
+      if (std::abs(det) < 1e-12) continue;
+      const double t = (u.x() * b.y() - u.y() * b.x()) / det;
+      const double s = (r.x() * b.y() - r.y() * b.x()) / det;
+      if (t > 0.0 && s >= 0.0 && s <= len && (1.0 - t) * r.norm() > tol_) return true;
+    }
+    return false;
+  }
+
   double bevel_past(const Plate& pl, const Plate& other, const Vec2& edge, const Vec2& u, int from, int to,
                     double extent) const {
     double past = 0.0, lo = 0.0, hi = 0.0;

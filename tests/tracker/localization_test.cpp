@@ -245,6 +245,81 @@ TEST_CASE("v-groove: the stated rms error of an open root is not overconfident",
   CHECK(s.empirical_ms <= 1.25 * s.stated_ms);
 }
 
+TEST_CASE("v-groove: a bevel whose foot is unseen may go on to the other edge's level",
+          "[tracker][vgroove][localization]") {
+  // The closed 60-degree root at (0.4, 120), tops at 110 on both sides
+  // (no mismatch), its right bevel's last 2.5 mm of depth in a shadow (the
+  // columns whose rays hit it below z = 117.5 return nothing). Read as an
+  // open root, the right edge is where the bevel's last point is, 2.5 mm
+  // above the left: the track point, halfway across, lies 0.5 * 2.5 tan 30
+  // = 0.72 mm from the root. The bevel could go on down to the left edge's
+  // level, 2.5 / cos 30 = 2.89 mm along it, and nothing seen between the
+  // edges says otherwise: taken as uniform over that extension (variance
+  // L^2 / 3), the track point moves half of its run across: 0.5 * 0.5 *
+  // 2.89 / sqrt(3) = 0.42 mm rms, less for the part of the excess the
+  // edges' own spread across the plates explains (twice their rms, about
+  // 0.2 mm here: the grazing ray's interval at the shadowed edge). So at
+  // least 0.3 mm, and the error (the extension's far end) within twice
+  // it. Without it, the stated error is the fits' and the edge's interval
+  // (0.09-0.16 mm, under a quarter of the error).
+  const Vec2 root(0.4, 120);
+  const double run = 10.0 * std::tan(std::numbers::pi / 6);
+  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
+  const std::vector<synth::Piece> v{{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}};
+  auto shadowed = [](synth::Profile p) {
+    for (int i = 0; i < p.size(); ++i)
+      if (p.valid[i] && p.y[i] > 0.45f && p.z[i] > 117.5f) p.invalidate(i, i);
+    return p;
+  };
+  tk::TrackerParams params;
+  params.joint = tk::JointType::VGroove;
+  for (const double sigma : {0.0, 0.05}) {
+    auto p = shadowed(synth::sample(v, 512));
+    if (sigma > 0.0) synth::add_noise(p, sigma, 3);
+    for (const bool on : {true, false}) {
+      params.vgroove.unseen_root_extension = on;
+      tk::Tracker tracker(params);
+      const tk::TrackResult& r = tracker.track(p.view());
+      REQUIRE(r.track_point);
+      const double error = (*r.track_point - root).norm();
+      INFO("noise " << sigma << ", extension " << on << ": " << tk::to_string(r.status) << ", error " << error
+                    << " mm, stated " << r.track_sigma_mm << " mm, gap " << r.gap_mm << ", mismatch "
+                    << r.mismatch_mm);
+      CHECK(r.gap_mm > 0.0);
+      CHECK(r.mismatch_mm == Approx(2.5).margin(0.15));
+      CHECK(error == Approx(0.72).margin(0.1));
+      if (on) {
+        CHECK(r.track_sigma_mm >= 0.3);
+        CHECK(error <= 2.0 * r.track_sigma_mm);
+      } else {
+        CHECK(r.track_sigma_mm < 0.25 * error);
+      }
+    }
+  }
+  // The same edges where the right plate's root face goes down to a
+  // backing bar 1 mm under the left edge (a root opening 1.44 mm wide, the
+  // right edge 2.5 mm higher: unequal root faces). The rays between the
+  // edges reach the bar through where the extension would be: the right
+  // edge is where it is read, and the stated error is the fits'.
+  const Vec2 re = root + Vec2(2.5 * std::tan(std::numbers::pi / 6), -2.5);
+  const std::vector<synth::Piece> open{{Vec2(-80, 110), lt},         {lt, root},  {root, Vec2(root.x(), 121)},
+                                       {Vec2(-1, 121), Vec2(3, 121)}, {re, Vec2(re.x(), 121)},
+                                       {re, rt},                       {rt, Vec2(80, 110)}};
+  const auto p = synth::sample(open, 512);
+  double stated[2] = {0, 0};
+  for (const bool on : {true, false}) {
+    params.vgroove.unseen_root_extension = on;
+    tk::Tracker tracker(params);
+    const tk::TrackResult& r = tracker.track(p.view());
+    REQUIRE(r.track_point);
+    INFO("backing bar, extension " << on << ": " << tk::to_string(r.status) << ", track (" << r.track_point->x()
+                                   << ", " << r.track_point->y() << "), stated " << r.track_sigma_mm);
+    CHECK(r.mismatch_mm == Approx(2.5).margin(0.15));
+    stated[on] = r.track_sigma_mm;
+  }
+  CHECK(stated[1] == stated[0]);
+}
+
 TEST_CASE("groove model: the stated rms error of B3 on a flat bottom is its spread over seeded noise",
           "[tracker][groove][localization]") {
   // A groove read by the groove model (a v-groove with beads laid,
