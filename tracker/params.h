@@ -157,6 +157,13 @@ struct CornerParams {
   // uncertainty (false: end faces square to the outer faces, the rounding's
   // and chamfer's points taken as face points; before 2026-11-28).
   bool fit_end_faces = true;
+  // Long segments between the two outer faces that continue neither: an
+  // open corner's notch, each plate's end face and its rounding or chamfer
+  // (each can be a long segment seen close up). More than this only as a
+  // closed notch's arcs (closed_notch). 2 before 2026-11-28 (session 31):
+  // a gap between chamfered edges with an end face seen had 3 and was
+  // never read.
+  int max_between = 4;
 };
 
 struct LapParams {

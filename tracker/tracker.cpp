@@ -1854,14 +1854,15 @@ class Matcher {
 
   void corner() {
     const CornerParams& cp = p_.corner;
-    // The faces are neighbouring long segments, or have one or two between
-    // them that continue neither (the notch of a gap, seen close up: the two
-    // end faces, each can be a long segment), or more, within two
+    // The faces are neighbouring long segments, or have up to
+    // CornerParams::max_between between them that continue neither (the
+    // notch of a gap, seen close up: each plate's end face, and its rounding
+    // or chamfer, can be a long segment), or more, within two
     // roundings' reach of each other, when they are a closed corner's notch
     // (below: a rounded edge's arc cut in short pieces).
     for (int q = 0; q + 1 < n_long(); ++q) {
       for (int q2 = q + 1; q2 < n_long(); ++q2) {
-        const bool many = q2 > q + 3;
+        const bool many = q2 > q + 1 + std::max(0, cp.max_between);
         if (many && (!cp.closed_notch || !within_roundings(q, q2)))
           break;
         bool notch = true;

@@ -279,6 +279,42 @@ TEST_CASE("corner: a mitred end face seen at a slant places its plate's edge", "
   CHECK((*r0.break_points[1] - el).norm() > 0.1);
 }
 
+TEST_CASE("corner: a gap between chamfered edges with an end face seen is read", "[tracker][corner]") {
+  // The mitred corner above, the plates 1.5 mm apart, the left edge
+  // chamfered 1 mm and the right 0.8 mm, sampled by 1,024 columns: the left
+  // chamfer, the left end face (seen through the gap) and the right
+  // chamfer are long segments of their own, three between the outer faces
+  // (CornerParams::max_between). The edges are at (-20.75, 100) and
+  // (-19.25, 100), the track point midway. The right edge, its end face
+  // unseen behind the chamfer, is read 0.31 mm along its outer face from
+  // the truth (the chamfer's hidden face leaves its place open, see
+  // docs/JOINTS.md "Outside corner"): the track point 0.16 mm off.
+  const Vec2 el(-20.75, 100), er(-19.25, 100), down(0, 1);
+  const Vec2 left = synth::dir_deg(140.0), right = synth::dir_deg(40.0);
+  const auto p = synth::sample({{el + 60.0 * left, el + 1.0 * left},
+                                {el + 1.0 * left, el + 1.0 * down},
+                                {el + 1.0 * down, el + 15.0 * down},
+                                {er + 0.8 * down, er + 15.0 * down},
+                                {er + 0.8 * down, er + 0.8 * right},
+                                {er + 0.8 * right, er + 60.0 * right}},
+                               1024);
+  const auto r = track(p, tk::JointType::Corner);
+  INFO(r.reason << "; " << r.segments.size() << " segments");
+  REQUIRE(r.segments.size() == 5);
+  REQUIRE(r.status == tk::TrackStatus::Ok);
+  CHECK((*r.break_points[1] - el).norm() < 1e-3);  // from the seen end face
+  CHECK((*r.track_point - Vec2(-20.0, 100)).norm() < 0.25);
+  CHECK(r.angle_deg == Approx(100.0).margin(1e-3));
+  // Two segments at most between the faces (before): the outer faces are
+  // never paired, and the end face and a chamfer read as a corner leave
+  // the rest unexplained.
+  tk::TrackerParams before;
+  before.corner.max_between = 2;
+  const auto r0 = track(p, tk::JointType::Corner, before);
+  INFO("before: " << r0.reason);
+  CHECK(r0.status == tk::TrackStatus::Rejected);
+}
+
 TEST_CASE("corner: a dropout just before a plate edge does not move the edge", "[tracker][corner]") {
   // A square corner with a 1 mm gap: the plates' outer edges at (-0.5, 100)
   // and (0.5, 100), their square end faces meeting at (0, 100.5) (the notch).
