@@ -358,6 +358,13 @@ struct GrooveParams {
   int min_wall_points = 3;
   double min_wall_deg = 20.0;
   double max_edge_mm = 3.0;
+  // Of several such runs, the wall is the one reaching farthest from its
+  // first point to its last: a rounded or chamfered top edge's piece is no
+  // longer than its size, and a wall seen edge-on has few points spread
+  // down the groove's depth (false: the run of most points, before
+  // 2026-11-28, session 31; a bevel's square wall seen edge-on by 7 points
+  // lost to its top edge's rounding, and the reading was rejected).
+  bool wall_by_reach = true;
   // Each wall's angle to its plate top (90: square), per joint: a bevelled
   // wall (v-groove, a bevel's bevel, a J's straight part), a U's walls, and
   // a square wall (a bevel's and a J's other side; it may be hidden from the

@@ -2855,9 +2855,14 @@ class Matcher {
       k = n_seg - 1;
       while (k >= 0 && s_.segments[k].first > end + dir) --k;
     }
-    // Of the segments starting within max_edge_mm, the one with the most
-    // points (noise cuts short pieces at any angle off the edge).
+    // Of the segments starting within max_edge_mm, the one reaching
+    // farthest from its first point to its last (GrooveParams::
+    // wall_by_reach; noise cuts short pieces at any angle off the edge, a
+    // rounded or chamfered top edge is no longer than its size, and a wall
+    // the laser sees edge-on has few points spread down its depth), or
+    // with the most points.
     int pick = -1;
+    auto reach = [&](const Segment& g) { return (pt(g.last) - pt(g.first)).norm(); };
     for (; k >= 0 && k < n_seg; k += dir) {
       const Segment& sg = s_.segments[k];
       if (dir > 0 ? sg.first >= stop : sg.last <= stop) break;
@@ -2865,7 +2870,9 @@ class Matcher {
       if ((near - pt(end)).norm() > gp.max_edge_mm) break;
       if (!sg.fitted || sg.count() < gp.min_wall_points || acute_angle_deg(sg.line, top.line) < gp.min_wall_deg)
         continue;
-      if (pick < 0 || sg.count() > s_.segments[pick].count()) pick = k;
+      if (pick < 0 || (gp.wall_by_reach ? reach(sg) > reach(s_.segments[pick])
+                                        : sg.count() > s_.segments[pick].count()))
+        pick = k;
     }
     if (pick >= 0) {
       k = pick;

@@ -703,3 +703,20 @@ TEST_CASE("corpus: a bevel wall cut below its top edge is joined with the rest o
   REQUIRE(one.result.status == tk::TrackStatus::Ok);
   CHECK(one.scored.track_error_mm < 0.35);
 }
+
+TEST_CASE("corpus: a groove wall seen edge-on beside its top edge's rounding (session 31)",
+          "[tracker][corpus][groove]") {
+  // Development seeds, geometry only. Bevel 26: the square wall seen
+  // nearly edge-on, 7 points 1 mm apart down its 6.7 mm, beside the top
+  // edge's rounding (a short arc of more points at 27 degrees): the
+  // rounding was taken for the wall, which then fitted neither wall's
+  // range, and the reading was rejected. The others, all with rounded top
+  // edges, were rejected for a wall angle out of range (bevel 122 and 199,
+  // U 10, J 76 and 293) or a wall going on below its toe (U 38). The wall
+  // is now the run reaching farthest (GrooveParams::wall_by_reach).
+  tk::TrackerParams off;
+  off.groove.wall_by_reach = false;
+  check_right_with_option(vc::Joint::Bevel, {26, 122, 199}, 0.1, off, tk::Outcome::Rejected);
+  check_right_with_option(vc::Joint::UGroove, {10, 38}, 0.1, off, tk::Outcome::Rejected);
+  check_right_with_option(vc::Joint::JGroove, {76, 293}, 0.1, off, tk::Outcome::Rejected);
+}
