@@ -228,6 +228,14 @@ struct ButtParams {
   // the long segments beyond them on their line, as neighbouring plates are
   // (noise can cut the far part short; its own line alone is off in angle).
   bool extend_split_plates = true;
+  // A closed joint's rounded or chamfered edges dip less than the split
+  // threshold (0.4 mm) below the plates and leave them one segment, with
+  // no corner for the step test. A run of at least 3 consecutive points of
+  // a segment behind its line by more than the surface tolerance, s_min
+  // points or more from either end, is read as the joint, the segment's
+  // parts before and after it the plates (false: before 2026-11-28,
+  // session 31; a dropout run elsewhere was then read as a tight gap).
+  bool dip_in_segment = true;
   // A hole fewer than s_min points from a segment's end or start (noise cut
   // the plate beyond it into pieces, and the merge joined the first piece to
   // the segment across the hole) is a gap candidate when the next (previous)

@@ -2686,6 +2686,33 @@ class Matcher {
                   evidence(a, b, k, e, missing, a_own ? &*fa : nullptr, b_own ? &*fb : nullptr));
       }
     }
+    // ...or a dip in one segment (ButtParams::dip_in_segment): a run of at
+    // least 3 consecutive points behind its line by more than the surface
+    // tolerance, s_min points or more from either end (a closed joint's
+    // rounded or chamfered edges, shallower than the split threshold and
+    // too smooth for the step test above, which looks for a corner).
+    if (p_.butt.dip_in_segment)
+      for (int q = 0; q < n_long(); ++q) {
+        const Segment& sg = seg(q);
+        if (sg.count() < 2 * s_min + 3) continue;
+        Line line = sg.line;
+        line.orient_towards(origin_);
+        for (int i = sg.first + s_min; i <= sg.last - s_min;) {
+          if (!(line.signed_distance(pt(i)) < -tol_)) {
+            ++i;
+            continue;
+          }
+          int r1 = i;
+          while (r1 + 1 <= sg.last - s_min && line.signed_distance(pt(r1 + 1)) < -tol_) ++r1;
+          const int r0 = i;
+          i = r1 + 1;
+          if (r1 - r0 + 1 < 3) continue;
+          const auto fa = s_.fit(sg.first, r0 - 1), fb = s_.fit(r1 + 1, sg.last);
+          if (!fa || !fb) continue;
+          const Plate a{sg.first, r0 - 1, fa->line, fa->centroid}, b{r1 + 1, sg.last, fb->line, fb->centroid};
+          butt_pair(a, b, r0, r1, evidence(a, b, r0 - 1, r1 + 1, false));
+        }
+      }
     // ...or a hole (a run of min_hole_columns invalid columns) fewer than s_min
     // points from a long segment's end: noise cut the plate beyond the hole
     // into pieces, and the merge joined the first of them, a stub, to this

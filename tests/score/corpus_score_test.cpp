@@ -743,11 +743,15 @@ TEST_CASE("corpus: a closed butt's rounded edges do not raise the noise estimate
   // gap 7 mm from the joint. Held to the residuals' median absolute value
   // (NoiseParams::robust_waviness), the noise is 0.003 mm and the dip is
   // the joint: read right, and at level 0 no longer read false (rejected
-  // as ambiguous: the dip and the reflection are both readings).
-  tk::TrackerParams off;
+  // as ambiguous: the dip and the reflection are both readings). Both
+  // without ButtParams::dip_in_segment, which reads this dip in one
+  // segment at either noise estimate.
+  tk::TrackerParams on;
+  on.butt.dip_in_segment = false;
+  tk::TrackerParams off = on;
   off.noise.robust_waviness = false;
   for (const double level : {kIdealLevel, 0.0}) {
-    const ReadOne one = read_one(vc::Joint::Butt, 5000890, level);
+    const ReadOne one = read_one(vc::Joint::Butt, 5000890, level, on);
     const ReadOne before = read_one(vc::Joint::Butt, 5000890, level, off);
     INFO("level " << level << ": " << tk::to_string(one.result.status) << " " << one.result.reason << ", error "
                   << one.scored.track_error_mm << ", noise " << one.result.noise_mm << "; without: "
@@ -763,4 +767,28 @@ TEST_CASE("corpus: a closed butt's rounded edges do not raise the noise estimate
       CHECK(one.scored.outcome != tk::Outcome::False);
     }
   }
+}
+
+TEST_CASE("corpus: a closed butt's rounded edges dipping within one segment are its joint (session 31)",
+          "[tracker][corpus]") {
+  // Development seed 111, geometry only: a closed joint with rounded edges
+  // whose dip lies within the split threshold, the plates one segment with
+  // no corner for the step test: "no gap or step" before; now the dip is
+  // the joint (ButtParams::dip_in_segment), read 0.011 mm from the truth.
+  tk::TrackerParams off;
+  off.butt.dip_in_segment = false;
+  check_right_with_option(vc::Joint::Butt, {111}, 0.02, off, tk::Outcome::Rejected);
+  // Unseen seed 5,000,918 at noise level 0 (waviness, a dropout run 12 mm
+  // away): the dropout run was read as a tight gap, the only reading. The
+  // dip is now a reading too, 0.005 mm from the truth, the two close in
+  // strength: ambiguous, no longer a false read.
+  const ReadOne one = read_one(vc::Joint::Butt, 5000918, 0.0);
+  const ReadOne before = read_one(vc::Joint::Butt, 5000918, 0.0, off);
+  INFO(tk::to_string(one.result.status) << " " << one.result.reason << "; without: "
+                                        << tk::to_string(before.result.status) << ", error "
+                                        << before.scored.track_error_mm);
+  CHECK(before.scored.outcome == tk::Outcome::False);
+  CHECK(before.scored.track_error_mm > 10.0);
+  CHECK(one.result.status == tk::TrackStatus::Rejected);
+  CHECK(one.result.reason.rfind("ambiguous", 0) == 0);
 }
