@@ -458,14 +458,6 @@ struct NoiseParams {
   double break_k = 6.0;         // SegmentParams::break_min_mm
   double merge_offset_k = 4.0;  // SegmentParams::max_merge_offset_mm
   double fit_k = 2.0;           // SegmentParams::fit_tol_mm
-  // The estimate also takes the long segments' median rms about their
-  // lines (waviness, noise correlated over neighbouring columns). Each
-  // segment's rms is held to 1.4826 times its residuals' median absolute
-  // value: a few points of a feature left in one segment (a closed butt's
-  // rounded edges) raised it, and the noise with it, until the feature
-  // lay within the evidence's dead zone (false: the rms as it is, before
-  // 2026-11-28, session 31).
-  bool robust_waviness = true;
 };
 
 // How sure the tracker is of a reading, and when it says it is not

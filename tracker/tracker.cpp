@@ -4493,21 +4493,6 @@ void Tracker::track(const ProfileView& profile, TrackResult& out, const TrackPri
                                         s_min, std::max(1, sg.count() / 128));
         if (f.curved) rms = f.rms;
       }
-      // A few points of a feature the split left in the segment (a closed
-      // butt's rounded edges dipping 0.3 mm) are no waviness: the rms is
-      // held to the residuals' median absolute value times 1.4826 (sigma
-      // for Gaussian noise, 1.05 amplitudes for a sine, whose rms is 0.71
-      // of it: waviness keeps its rms), over at most 128 of its points
-      // (NoiseParams::robust_waviness).
-      if (p.noise.robust_waviness && sg.count() >= 16) {
-        abs_res_.clear();
-        const int stride = std::max(1, sg.count() / 128);
-        for (int i = sg.first; i <= sg.last; i += stride)
-          abs_res_.push_back(std::abs(sg.line.signed_distance(seg_.points[i])));
-        const auto mid = abs_res_.begin() + static_cast<std::ptrdiff_t>(abs_res_.size() / 2);
-        std::nth_element(abs_res_.begin(), mid, abs_res_.end());
-        rms = std::min(rms, 1.4826 * *mid);
-      }
       rms_.emplace_back(rms, sg.count());
     }
     std::sort(rms_.begin(), rms_.end());

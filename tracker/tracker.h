@@ -152,7 +152,6 @@ class Tracker {
   std::vector<int> next_long_;
   std::vector<int> closed_;
   std::vector<std::pair<double, int>> rms_;
-  std::vector<double> abs_res_;  // the long segments' residuals (robust_waviness)
 };
 
 }  // namespace vts::tracker
