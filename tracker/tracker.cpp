@@ -4268,12 +4268,6 @@ class Matcher {
     return above;
   }
 
-  // How far bevel pl's own points lie past its root edge `edge` as read,
-  // towards the root (u: the unit direction up the bevel, away from the
-  // root): runs of at least kMinPlateRun kept points from..to in
-  // consecutive columns on its line and off the other bevel's, spanning at
-  // least `extent` mm along it (a surface crossing the line, a backing bar
-  // under the root, has a few points on it only where it crosses; 0: none).
   // Whether the ray to a kept point from..to crossed the segment from edge
   // to edge + len u (unit u) before reaching it, by more than the surface
   // tolerance: nothing stands there, or that ray would have stopped on it.
@@ -4291,6 +4285,12 @@ class Matcher {
     return false;
   }
 
+  // How far bevel pl's own points lie past its root edge `edge` as read,
+  // towards the root (u: the unit direction up the bevel, away from the
+  // root): runs of at least kMinPlateRun kept points from..to in
+  // consecutive columns on its line and off the other bevel's, spanning at
+  // least `extent` mm along it (a surface crossing the line, a backing bar
+  // under the root, has a few points on it only where it crosses; 0: none).
   double bevel_past(const Plate& pl, const Plate& other, const Vec2& edge, const Vec2& u, int from, int to,
                     double extent) const {
     double past = 0.0, lo = 0.0, hi = 0.0;
