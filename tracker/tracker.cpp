@@ -2695,8 +2695,7 @@ class Matcher {
       for (int q = 0; q < n_long(); ++q) {
         const Segment& sg = seg(q);
         if (sg.count() < 2 * s_min + 3) continue;
-        Line line = sg.line;
-        line.orient_towards(origin_);
+        const Line& line = sg.line;  // normal towards the sensor
         for (int i = sg.first + s_min; i <= sg.last - s_min;) {
           if (!(line.signed_distance(pt(i)) < -tol_)) {
             ++i;
@@ -2707,10 +2706,9 @@ class Matcher {
           const int r0 = i;
           i = r1 + 1;
           if (r1 - r0 + 1 < 3) continue;
-          const auto fa = s_.fit(sg.first, r0 - 1), fb = s_.fit(r1 + 1, sg.last);
-          if (!fa || !fb) continue;
-          const Plate a{sg.first, r0 - 1, fa->line, fa->centroid}, b{r1 + 1, sg.last, fb->line, fb->centroid};
-          butt_pair(a, b, r0, r1, evidence(a, b, r0 - 1, r1 + 1, false));
+          const auto a = plate_of(sg.first, r0 - 1), b = plate_of(r1 + 1, sg.last);
+          if (!a || !b) continue;
+          butt_pair(*a, *b, r0, r1, evidence(*a, *b, r0 - 1, r1 + 1, false));
         }
       }
     // ...or a hole (a run of min_hole_columns invalid columns) fewer than s_min

@@ -209,12 +209,9 @@ TEST_CASE("v-groove: the stated rms error of a closed root is its spread over se
   // edges a point or two short of the apex: at 0.05 mm noise 57 of 400,
   // 0.21 mm rms off where 0.10 mm is stated, a bias the fits do not see;
   // at 0.2 mm 0.29 mm where 0.33 mm is stated.)
-  const Vec2 root(0.4, 120);
-  const double run = 10.0 * std::tan(std::numbers::pi / 6);
-  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
-  const std::vector<synth::Piece> v{{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}};
+  const synth::ClosedVGroove g;
   for (const double sigma : {0.05, 0.2}) {
-    const Spread s = spread(v, root, sigma, 400, 512, true);
+    const Spread s = spread(g.pieces, g.root, sigma, 400, 512, true);
     INFO("noise " << sigma << ": stated rms " << std::sqrt(s.stated_ms) << " mm, empirical "
                   << std::sqrt(s.empirical_ms) << " mm over " << s.read << " readings");
     REQUIRE(s.read >= 150);
@@ -262,10 +259,8 @@ TEST_CASE("v-groove: a bevel whose foot is unseen may go on to the other edge's 
   // least 0.3 mm, and the error (the extension's far end) within twice
   // it. Without it, the stated error is the fits' and the edge's interval
   // (0.09-0.16 mm, under a quarter of the error).
-  const Vec2 root(0.4, 120);
-  const double run = 10.0 * std::tan(std::numbers::pi / 6);
-  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
-  const std::vector<synth::Piece> v{{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}};
+  const synth::ClosedVGroove g;
+  const Vec2 &root = g.root, &lt = g.lt, &rt = g.rt;
   auto shadowed = [](synth::Profile p) {
     for (int i = 0; i < p.size(); ++i)
       if (p.valid[i] && p.y[i] > 0.45f && p.z[i] > 117.5f) p.invalidate(i, i);
@@ -274,7 +269,7 @@ TEST_CASE("v-groove: a bevel whose foot is unseen may go on to the other edge's 
   tk::TrackerParams params;
   params.joint = tk::JointType::VGroove;
   for (const double sigma : {0.0, 0.05}) {
-    auto p = shadowed(synth::sample(v, 512));
+    auto p = shadowed(synth::sample(g.pieces, 512));
     if (sigma > 0.0) synth::add_noise(p, sigma, 3);
     for (const bool on : {true, false}) {
       params.vgroove.unseen_root_extension = on;
@@ -488,10 +483,7 @@ TEST_CASE("butt: a chamfered edge's points are no face, and the stated error cou
 TEST_CASE("tracker: the confidence includes the chance that the track point is off", "[tracker][localization]") {
   // Any reading: confidence <= 1 - track_off_probability, and an exact
   // closed root of an ideal profile is located to well within 1 mm.
-  const Vec2 root(0.4, 120);
-  const double run = 10.0 * std::tan(std::numbers::pi / 6);
-  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
-  const std::vector<synth::Piece> v{{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}};
+  const std::vector<synth::Piece> v = synth::ClosedVGroove{}.pieces;
   tk::TrackerParams params;
   params.joint = tk::JointType::VGroove;
   tk::Tracker tracker(params);

@@ -99,6 +99,16 @@ inline std::vector<Piece> valley(const Vec2& root, double angle_deg, double len 
   return {{root + len * left, root}, {root, root + len * right}};
 }
 
+// A closed 60-degree v-groove root at (0.4, 120) (the bevels' lines meet
+// there), its plate tops at 110 on both sides: the root, the bevels' top
+// edges and the section.
+struct ClosedVGroove {
+  Vec2 root{0.4, 120};
+  Vec2 lt = root + Vec2(-10.0 * std::tan(std::numbers::pi / 6), -10);
+  Vec2 rt = root + Vec2(10.0 * std::tan(std::numbers::pi / 6), -10);
+  std::vector<Piece> pieces{{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}};
+};
+
 // An outside corner (ridge) pointing at the sensor, inside angle angle_deg.
 inline std::vector<Piece> ridge(const Vec2& apex, double angle_deg, double len = 80.0) {
   const double half = 0.5 * angle_deg;

@@ -1050,10 +1050,9 @@ TEST_CASE("v-groove: both root faces seen as short segments of their own", "[tra
 }
 
 TEST_CASE("v-groove: closed root (no gap) is exact", "[tracker][vgroove]") {
-  const Vec2 root(0.4, 120);
-  const double run = 10.0 * std::tan(std::numbers::pi / 6);
-  const Vec2 lt = root + Vec2(-run, -10), rt = root + Vec2(run, -10);
-  const auto p = synth::sample({{Vec2(-80, 110), lt}, {lt, root}, {root, rt}, {rt, Vec2(80, 110)}});
+  const synth::ClosedVGroove g;
+  const Vec2& root = g.root;
+  const auto p = synth::sample(g.pieces);
   const auto r = track(p, tk::JointType::VGroove);
   REQUIRE(r.status == tk::TrackStatus::Ok);
   CHECK((*r.track_point - root).norm() < 1e-3);
